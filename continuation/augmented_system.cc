@@ -1,0 +1,36 @@
+#include "continuation/augmented_system.h"
+
+#include <limits>
+
+namespace nfrc {
+namespace {
+
+// Below this reciprocal condition estimate partial pivoting may have divided by a
+// rounding-level pivot, so the rank-revealing full-pivoting LU is used instead.
+constexpr double kSingularRcond = 1e2 * std::numeric_limits<double>::epsilon();
+
+}  // namespace
+
+Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
+                                double residual_scale, const Eigen::VectorXd& last_row) {
+  const int n = scaling.num_unknowns();
+  const Eigen::VectorXd& scales = scaling.scales();
+  Eigen::MatrixXd a(n + 1, n + 1);
+  a.topLeftCorner(n, n) = linearization.jacobian_y * scales.head(n).asDiagonal() / residual_scale;
+  a.topRightCorner(n, 1) = linearization.jacobian_lambda * (scales(n) / residual_scale);
+  a.bottomRows(1) = last_row.transpose();
+  return a;
+}
+
+bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  if (lu.rcond() > kSingularRcond) {
+    *x = lu.solve(b);
+    if (x->allFinite()) return true;
+  }
+  Eigen::FullPivLU<Eigen::MatrixXd> full(a);
+  *x = full.solve(b);
+  return x->allFinite();
+}
+
+}  // namespace nfrc

@@ -1,0 +1,20 @@
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "continuation/evaluator.h"
+#include "continuation/scaling.h"
+
+namespace nfrc {
+
+// The scaled bordered matrix [[R_y D_y, R_λ s_λ] / r; cᵀ] acting on scaled increments
+// (Δy/s_y, Δλ/s_λ): columns scaled by the unknowns' scales, rows of R by the residual
+// scale r, so that its entries (and the LU's pivot choices) do not depend on units.
+Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
+                                double residual_scale, const Eigen::VectorXd& last_row);
+
+// Solves a x = b by one partial-pivoting LU of the whole matrix; falls back to a
+// full-pivoting LU when that LU is (numerically) singular. False if x is not finite.
+bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+
+}  // namespace nfrc

@@ -1,0 +1,344 @@
+#include "continuation/continuation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "continuation/closure.h"
+#include "continuation/corrector.h"
+#include "continuation/evaluator.h"
+#include "continuation/fold_locator.h"
+#include "continuation/progress.h"
+#include "continuation/scaling.h"
+#include "continuation/step_control.h"
+#include "continuation/tangent.h"
+
+namespace nfrc {
+namespace {
+
+// Step attempts allowed per requested point: a hard guard against step-control cycles,
+// far above what the min_step rule lets a healthy run use (≈ log(max/min)/log(1/decrease)).
+constexpr int kMaxAttemptsPerPoint = 50;
+
+// Enough digits to locate a stall or a bound in a message, as in the progress lines.
+constexpr int kMessageDigits = 8;
+
+std::string Number(double value) {
+  std::ostringstream text;
+  text << std::setprecision(kMessageDigits) << value;
+  return text.str();
+}
+
+std::string Describe(const std::string& name, double value) { return name + '=' + Number(value); }
+
+// r: ‖R(0, λ_start)‖, the size of the excitation, against which residuals are judged. A
+// problem without one (R(0, λ_start) = 0, e.g. unforced) falls back to
+// max(1, ‖R(y_guess, λ_start)‖), which is not unit-invariant but keeps the test meaningful.
+double ResidualScale(Evaluator& evaluator, const Eigen::VectorXd& y_guess, double lambda) {
+  Eigen::VectorXd residual;
+  if (evaluator.Residual(Eigen::VectorXd::Zero(y_guess.size()), lambda, &residual)) {
+    const double norm = residual.norm();
+    if (norm > 0.0 && std::isfinite(norm)) return norm;
+  }
+  if (evaluator.Residual(y_guess, lambda, &residual) && std::isfinite(residual.norm())) {
+    return std::max(1.0, residual.norm());
+  }
+  return 1.0;
+}
+
+// Groups still zero everywhere get the scale s_λ·|dy/dλ| = s_λ·|R_y⁻¹R_λ|: the change of y
+// over the λ range, in y's own unit.
+void SeedZeroGroups(const Linearization& linearization, Scaling* scaling) {
+  if (!scaling->HasZeroGroup()) return;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(linearization.jacobian_y);
+  if (!lu.isInvertible()) return;
+  const Eigen::VectorXd dy_dlambda = lu.solve(linearization.jacobian_lambda);
+  scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda);
+}
+
+class Continuer {
+ public:
+  Continuer(ContinuationProblem& problem, const ContinuationOptions& options,
+            ContinuationObserver* observer)
+      : evaluator_(problem),
+        options_(options),
+        observer_(observer),
+        groups_(problem.ScaleGroups()),
+        scaling_(groups_, LambdaScale(options), options.scale_floor),
+        controller_(options),
+        progress_(options.progress, options.lambda_name),
+        lambda_min_(options.LowerBound()),
+        lambda_max_(options.UpperBound()) {
+    if (static_cast<int>(groups_.size()) != evaluator_.num_unknowns()) {
+      throw std::invalid_argument("ContinuationProblem: ScaleGroups() size != NumUnknowns()");
+    }
+    settings_.max_iterations = options.max_newton_iterations;
+    settings_.update_tolerance = options.newton_tolerance;
+    settings_.residual_tolerance = options.residual_tolerance;
+    settings_.line_search = options.line_search;
+  }
+
+  Branch Run(const Eigen::VectorXd& y_guess) {
+    const auto start_time = std::chrono::steady_clock::now();
+    if (Start(y_guess)) Follow();
+    ContinuationSummary& summary = branch_.summary;
+    summary.num_points = static_cast<int>(branch_.points.size());
+    summary.num_folds = static_cast<int>(branch_.folds.size());
+    for (const StepRecord& record : summary.history) {
+      ++(record.accepted ? summary.num_accepted_steps : summary.num_rejected_steps);
+    }
+    summary.total_newton_iterations = newton_iterations_;
+    summary.num_evaluations = evaluator_.num_evaluations();
+    summary.wall_time_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+    progress_.Finish(summary);
+    return std::move(branch_);
+  }
+
+ private:
+  int n() const { return evaluator_.num_unknowns(); }
+
+  void Finish(TerminationReason reason, std::string message) {
+    if (finished_) return;
+    finished_ = true;
+    branch_.summary.reason = reason;
+    branch_.summary.message = std::move(message);
+  }
+
+  bool Start(const Eigen::VectorXd& y_guess) {
+    if (y_guess.size() != n()) {
+      throw std::invalid_argument("Continue: y_guess size differs from NumUnknowns()");
+    }
+    const double lambda = options_.lambda_start;
+    settings_.residual_scale = ResidualScale(evaluator_, y_guess, lambda);
+    Eigen::VectorXd u_guess(n() + 1);
+    u_guess << y_guess, lambda;
+
+    // The start Newton measures its updates against y_guess's magnitude: no branch yet.
+    Scaling guess_scaling = scaling_;
+    guess_scaling.Include(y_guess);
+    Linearization at_guess;
+    if (guess_scaling.HasZeroGroup() && evaluator_.Linearize(u_guess, &at_guess)) {
+      SeedZeroGroups(at_guess, &guess_scaling);
+    }
+    NewtonSettings start_settings = settings_;
+    start_settings.max_iterations = options_.max_start_iterations;
+    CorrectorResult start =
+        CorrectAtFixedLambda(evaluator_, guess_scaling, start_settings, u_guess);
+    newton_iterations_ += start.iterations;
+    if (!start.converged) {
+      Finish(TerminationReason::kStartFailed,
+             "Newton at " + Describe(options_.lambda_name, lambda) + " from y_guess failed: " +
+                 start.failure + " (" + Describe("residual", start.residual_norm) + ")");
+      return false;
+    }
+
+    scaling_.Include(start.u.head(n()));
+    SeedZeroGroups(start.linearization, &scaling_);
+    Eigen::VectorXd tangent_scaled;
+    const double direction = options_.lambda_end > options_.lambda_start ? 1.0 : -1.0;
+    if (!InitialTangent(start.linearization, scaling_, settings_.residual_scale, direction,
+                        &tangent_scaled)) {
+      Finish(TerminationReason::kStartFailed,
+             "no unique tangent at the starting point (rank of [R_y, R_lambda] below n)");
+      return false;
+    }
+    BranchPoint point;
+    point.newton_iterations = start.iterations;
+    point.residual_norm = start.residual_norm;
+    AddPoint(point, start.u, tangent_scaled);
+    closure_.emplace(u_, tangent_);
+    if (!finished_ && options_.max_points <= 1) {
+      Finish(TerminationReason::kMaxPoints, "max_points (1) reached at the first point");
+    }
+    return true;
+  }
+
+  void Follow() {
+    double step = options_.initial_step;
+    const long max_attempts = static_cast<long>(kMaxAttemptsPerPoint) * options_.max_points;
+    for (long attempts = 0; !finished_; ++attempts) {
+      if (attempts >= max_attempts) {
+        Finish(TerminationReason::kStalled, "gave up after " + std::to_string(attempts) +
+                                                " step attempts at " +
+                                                Describe(options_.lambda_name, u_(n())));
+        return;
+      }
+      if (std::optional<double> next = Attempt(step)) {
+        step = *next;
+        continue;
+      }
+      if (std::optional<double> retry = controller_.AfterFailure(step)) {
+        step = *retry;
+        continue;
+      }
+      Finish(TerminationReason::kStalled, "stalled at " + Describe(options_.lambda_name, u_(n())) +
+                                              " (" + Describe("step", step) + " failed, min_step " +
+                                              Number(options_.min_step) + "): " + last_failure_);
+    }
+  }
+
+  // One predictor-corrector step of scaled arclength h; the next step on success.
+  std::optional<double> Attempt(double h) {
+    StepRecord record;
+    record.step = h;
+    const Eigen::VectorXd tangent_scaled = scaling_.UnitScaled(tangent_);
+    const Eigen::VectorXd u_pred = u_ + h * scaling_.FromScaled(tangent_scaled);
+    CorrectorResult corrected =
+        CorrectOnArclength(evaluator_, scaling_, settings_, u_pred, tangent_scaled);
+    newton_iterations_ += corrected.iterations;
+    record.newton_iterations = corrected.iterations;
+    if (!corrected.converged) return Reject(std::move(record), corrected.failure);
+
+    Eigen::VectorXd new_tangent;
+    if (!NextTangent(corrected.linearization, scaling_, settings_.residual_scale, tangent_scaled,
+                     &new_tangent)) {
+      return Reject(std::move(record), "no tangent at the corrected point");
+    }
+    const double angle = std::acos(std::clamp(new_tangent.dot(tangent_scaled), -1.0, 1.0));
+    if (angle > options_.max_tangent_angle) {
+      return Reject(std::move(record),
+                    "tangent turned by " + Number(angle) + " rad, above max_tangent_angle");
+    }
+    const bool fold_crossed = options_.detect_folds && new_tangent(n()) * tangent_scaled(n()) < 0;
+    const double lambda = corrected.u(n());
+    if (lambda <= lambda_min_ || lambda >= lambda_max_) {
+      if (fold_crossed) return Reject(std::move(record), "fold and lambda bound in one step");
+      return Land(std::move(record), corrected.u, tangent_scaled);
+    }
+    if (fold_crossed) {
+      FoldBracket bracket{u_,          tangent_scaled,   tangent_scaled(n()),
+                          corrected.u, new_tangent(n()), h};
+      RecordFold(bracket);
+    }
+
+    BranchPoint point;
+    point.step = h;
+    point.newton_iterations = corrected.iterations;
+    point.residual_norm = corrected.residual_norm;
+    const Eigen::VectorXd u_previous = u_;
+    record.accepted = true;
+    branch_.summary.history.push_back(std::move(record));
+    AddPoint(point, corrected.u, new_tangent);
+    if (!finished_ && closure_->Closes(scaling_, u_previous, u_, tangent_)) {
+      Finish(
+          TerminationReason::kClosedCurve,
+          "returned to the first point after " + std::to_string(branch_.points.size()) + " points");
+    }
+    if (!finished_ && static_cast<int>(branch_.points.size()) >= options_.max_points) {
+      Finish(TerminationReason::kMaxPoints, "max_points (" + std::to_string(options_.max_points) +
+                                                ") reached at " +
+                                                Describe(options_.lambda_name, u_(n())));
+    }
+    return controller_.AfterSuccess(h, corrected.iterations, angle);
+  }
+
+  // The step left [λ_min, λ_max] at `u_outside`: solves at λ = bound from the chord's
+  // interpolation so that the branch ends exactly on the bound.
+  std::optional<double> Land(StepRecord record, const Eigen::VectorXd& u_outside,
+                             const Eigen::VectorXd& tangent_scaled) {
+    const double step = record.step;
+    const double bound = u_outside(n()) <= lambda_min_ ? lambda_min_ : lambda_max_;
+    const double span = u_outside(n()) - u_(n());
+    const double fraction = span != 0.0 ? (bound - u_(n())) / span : 1.0;
+    Eigen::VectorXd guess = u_ + fraction * (u_outside - u_);
+    guess(n()) = bound;
+    CorrectorResult landed = CorrectAtFixedLambda(evaluator_, scaling_, settings_, guess);
+    newton_iterations_ += landed.iterations;
+    record.newton_iterations += landed.iterations;
+    Eigen::VectorXd tangent;
+    if (!landed.converged) {
+      return Reject(std::move(record), "landing on the lambda bound failed: " + landed.failure);
+    }
+    if (!NextTangent(landed.linearization, scaling_, settings_.residual_scale, tangent_scaled,
+                     &tangent)) {
+      return Reject(std::move(record), "no tangent at the lambda bound");
+    }
+    BranchPoint point;
+    point.step = scaling_.Norm(landed.u - u_);
+    point.newton_iterations = record.newton_iterations;
+    point.residual_norm = landed.residual_norm;
+    record.accepted = true;
+    branch_.summary.history.push_back(std::move(record));
+    AddPoint(point, landed.u, tangent);
+    Finish(TerminationReason::kReachedLambdaBound,
+           "reached " + Describe(options_.lambda_name, bound));
+    return step;
+  }
+
+  std::optional<double> Reject(StepRecord record, std::string note) {
+    record.accepted = false;
+    record.note = note;
+    branch_.summary.history.push_back(std::move(record));
+    last_failure_ = std::move(note);
+    return std::nullopt;
+  }
+
+  void RecordFold(const FoldBracket& bracket) {
+    FoldSearchResult search = LocateFold(evaluator_, scaling_, settings_, bracket,
+                                         options_.fold_tolerance, options_.max_fold_iterations);
+    newton_iterations_ += search.newton_iterations;
+    search.fold.after_point = static_cast<int>(branch_.points.size()) - 1;
+    branch_.folds.push_back(std::move(search.fold));
+    progress_.FoldFound(static_cast<int>(branch_.folds.size()), branch_.folds.back());
+    if (observer_ != nullptr) observer_->OnFold(branch_.folds.back());
+  }
+
+  // Appends a converged point; `tangent_scaled` is its unit tangent in the current scaling,
+  // renormalised after the scaling has taken the point in.
+  void AddPoint(BranchPoint point, const Eigen::VectorXd& u,
+                const Eigen::VectorXd& tangent_scaled) {
+    const Eigen::VectorXd direction = scaling_.FromScaled(tangent_scaled);
+    scaling_.Include(u.head(n()));
+    tangent_ = direction / scaling_.Norm(direction);
+    u_ = u;
+    point.lambda = u(n());
+    point.y = u.head(n());
+    point.tangent_y = tangent_.head(n());
+    point.tangent_lambda = tangent_(n());
+    const int index = static_cast<int>(branch_.points.size());
+    branch_.points.push_back(point);
+    progress_.Point(index, branch_.points.back());
+    if (observer_ != nullptr && !observer_->OnPoint(branch_.points.back(), index)) {
+      Finish(TerminationReason::kStoppedByObserver,
+             "stopped by the observer at point " + std::to_string(index) + " (" +
+                 Describe(options_.lambda_name, point.lambda) + ")");
+    }
+  }
+
+  Evaluator evaluator_;
+  const ContinuationOptions& options_;
+  ContinuationObserver* observer_;
+  std::vector<int> groups_;
+  Scaling scaling_;
+  StepController controller_;
+  ProgressReporter progress_;
+  const double lambda_min_;
+  const double lambda_max_;
+  NewtonSettings settings_;
+
+  Branch branch_;
+  Eigen::VectorXd u_;        // last accepted point (y, λ)
+  Eigen::VectorXd tangent_;  // its tangent direction, unit in the current scaling
+  std::optional<ClosureDetector> closure_;
+  bool finished_ = false;
+  int newton_iterations_ = 0;
+  std::string last_failure_;
+};
+
+}  // namespace
+
+Branch Continue(ContinuationProblem& problem, const Eigen::VectorXd& y_guess,
+                const ContinuationOptions& options, ContinuationObserver* observer) {
+  options.Validate();
+  return Continuer(problem, options, observer).Run(y_guess);
+}
+
+}  // namespace nfrc

@@ -1,0 +1,122 @@
+#include "continuation/corrector.h"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "continuation/augmented_system.h"
+
+namespace nfrc {
+namespace {
+
+// Sufficient decrease of the merit for a damped step (Armijo with the usual small slope).
+constexpr double kArmijo = 1e-4;
+// Halvings of a Newton step before the line search gives up (step factor 2⁻¹²).
+constexpr int kMaxBacktracks = 12;
+// Without line search, a merit this many times its value at the start means divergence.
+constexpr double kDivergenceGrowth = 1e2;
+
+enum class Constraint { kArclength, kFixedLambda };
+
+double Merit(const Linearization& linearization, double constraint_residual,
+             double residual_scale) {
+  return std::hypot(linearization.residual.norm() / residual_scale, constraint_residual);
+}
+
+CorrectorResult Fail(CorrectorResult result, std::string why) {
+  result.converged = false;
+  result.failure = std::move(why);
+  return result;
+}
+
+// Newton on R(u) = 0, cᵀ D⁻¹(u − u_ref) = 0. The scaled merit ‖(R/r, constraint)‖ is what
+// the line search decreases; it weighs both equations alike whatever the units.
+CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
+                        const NewtonSettings& settings, const Eigen::VectorXd& u_start,
+                        const Eigen::VectorXd& row, const Eigen::VectorXd& u_ref,
+                        Constraint constraint) {
+  const int n = scaling.num_unknowns();
+  const double r = settings.residual_scale;
+  CorrectorResult result;
+  result.u = u_start;
+  if (!evaluator.Linearize(result.u, &result.linearization)) {
+    return Fail(std::move(result), "evaluation failed before the first Newton step");
+  }
+  auto constraint_residual = [&](const Eigen::VectorXd& u) {
+    return row.dot(scaling.ToScaled(u - u_ref));
+  };
+  double merit = Merit(result.linearization, constraint_residual(result.u), r);
+  const double initial_merit = merit;
+  result.residual_norm = result.linearization.residual.norm();
+
+  Linearization trial_linearization;
+  for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
+    Eigen::VectorXd rhs(n + 1);
+    rhs.head(n) = -result.linearization.residual / r;
+    rhs(n) = -constraint_residual(result.u);
+    Eigen::VectorXd step_scaled;
+    if (!SolveAugmented(AugmentedMatrix(result.linearization, scaling, r, row), rhs,
+                        &step_scaled)) {
+      return Fail(std::move(result), "augmented system not solvable");
+    }
+    result.iterations = iteration;
+    if (constraint == Constraint::kFixedLambda) step_scaled(n) = 0.0;
+    const double update_norm = step_scaled.norm();
+    const Eigen::VectorXd step = scaling.FromScaled(step_scaled);
+
+    // Near convergence rounding can stop the merit from decreasing: take full steps there.
+    const bool damp =
+        settings.line_search && result.residual_norm > settings.residual_tolerance * r;
+    double alpha = 1.0;
+    Eigen::VectorXd trial;
+    double trial_merit = 0.0;
+    for (int backtrack = 0;; ++backtrack) {
+      trial = result.u + alpha * step;
+      if (constraint == Constraint::kFixedLambda) trial(n) = u_ref(n);
+      const bool evaluated = evaluator.Linearize(trial, &trial_linearization);
+      if (evaluated) trial_merit = Merit(trial_linearization, constraint_residual(trial), r);
+      if (!damp) {
+        if (!evaluated) return Fail(std::move(result), "evaluation failed at a Newton iterate");
+        break;
+      }
+      if (evaluated && trial_merit <= (1.0 - kArmijo * alpha) * merit) break;
+      if (backtrack == kMaxBacktracks) {
+        return Fail(std::move(result), "line search found no decrease of the residual");
+      }
+      alpha *= 0.5;
+    }
+    result.u = trial;
+    std::swap(result.linearization, trial_linearization);
+    result.residual_norm = result.linearization.residual.norm();
+    merit = trial_merit;
+    if (!settings.line_search && merit > kDivergenceGrowth * initial_merit) {
+      return Fail(std::move(result), "Newton diverging (residual growing)");
+    }
+    if (update_norm <= settings.update_tolerance &&
+        result.residual_norm <= settings.residual_tolerance * r) {
+      result.converged = true;
+      return result;
+    }
+  }
+  return Fail(std::move(result),
+              "no convergence in " + std::to_string(settings.max_iterations) + " iterations");
+}
+
+}  // namespace
+
+CorrectorResult CorrectOnArclength(Evaluator& evaluator, const Scaling& scaling,
+                                   const NewtonSettings& settings, const Eigen::VectorXd& u_pred,
+                                   const Eigen::VectorXd& tangent_scaled) {
+  return Correct(evaluator, scaling, settings, u_pred, tangent_scaled, u_pred,
+                 Constraint::kArclength);
+}
+
+CorrectorResult CorrectAtFixedLambda(Evaluator& evaluator, const Scaling& scaling,
+                                     const NewtonSettings& settings,
+                                     const Eigen::VectorXd& u_guess) {
+  const int n = scaling.num_unknowns();
+  return Correct(evaluator, scaling, settings, u_guess, Eigen::VectorXd::Unit(n + 1, n), u_guess,
+                 Constraint::kFixedLambda);
+}
+
+}  // namespace nfrc

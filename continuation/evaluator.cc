@@ -1,0 +1,37 @@
+#include "continuation/evaluator.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace nfrc {
+
+Evaluator::Evaluator(ContinuationProblem& problem) : problem_(problem), n_(problem.NumUnknowns()) {
+  if (n_ < 1) throw std::invalid_argument("ContinuationProblem: NumUnknowns() must be positive");
+}
+
+bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
+  ++num_evaluations_;
+  if (!u.allFinite()) return false;
+  result->residual.setZero(n_);
+  result->jacobian_y.setZero(n_, n_);
+  result->jacobian_lambda.setZero(n_);
+  const Eigen::VectorXd y = u.head(n_);
+  if (!problem_.Evaluate(y, u(n_), &result->residual, &result->jacobian_y,
+                         &result->jacobian_lambda)) {
+    return false;
+  }
+  return result->residual.size() == n_ && result->jacobian_y.rows() == n_ &&
+         result->jacobian_y.cols() == n_ && result->jacobian_lambda.size() == n_ &&
+         result->residual.allFinite() && result->jacobian_y.allFinite() &&
+         result->jacobian_lambda.allFinite();
+}
+
+bool Evaluator::Residual(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual) {
+  ++num_evaluations_;
+  if (!y.allFinite() || !std::isfinite(lambda)) return false;
+  residual->setZero(n_);
+  if (!problem_.Evaluate(y, lambda, residual, nullptr, nullptr)) return false;
+  return residual->size() == n_ && residual->allFinite();
+}
+
+}  // namespace nfrc

@@ -1,0 +1,36 @@
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "continuation/problem.h"
+
+namespace nfrc {
+
+// R and its derivatives at one point u = (y, λ).
+struct Linearization {
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian_y;
+  Eigen::VectorXd jacobian_lambda;
+};
+
+// Calls ContinuationProblem::Evaluate on stacked points u = (y, λ), counts the calls and
+// turns wrong sizes and non-finite output into a failed evaluation.
+class Evaluator {
+ public:
+  explicit Evaluator(ContinuationProblem& problem);
+
+  int num_unknowns() const { return n_; }
+  int num_evaluations() const { return num_evaluations_; }
+
+  // Residual and both Jacobians at u (size n + 1); false when they are not available.
+  bool Linearize(const Eigen::VectorXd& u, Linearization* result);
+  // Residual only.
+  bool Residual(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual);
+
+ private:
+  ContinuationProblem& problem_;
+  int n_;
+  int num_evaluations_ = 0;
+};
+
+}  // namespace nfrc

@@ -1,0 +1,27 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace nfrc {
+
+// An equation R(y, λ) = 0 to be followed in the parameter λ. The engine knows nothing
+// else about it. Jacobians are dense: the problems continued here are condensed ones.
+class ContinuationProblem {
+ public:
+  virtual ~ContinuationProblem() = default;
+
+  virtual int NumUnknowns() const = 0;
+
+  // Fills R(y, λ) and, for non-null arguments, ∂R/∂y and ∂R/∂λ. Returns false when the
+  // problem cannot be evaluated there (e.g. a singular linear part): the engine treats it
+  // as a failed step, never as a converged point.
+  virtual bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                        Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) = 0;
+
+  // Scale group of each unknown: unknowns of one group share one physical unit and one
+  // scale (e.g. displacement coefficients vs force coefficients). Default: one group.
+  virtual std::vector<int> ScaleGroups() const { return std::vector<int>(NumUnknowns(), 0); }
+};
+
+}  // namespace nfrc

@@ -1,0 +1,25 @@
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "continuation/evaluator.h"
+#include "continuation/scaling.h"
+
+namespace nfrc {
+
+// Tangents are unit vectors in scaled coordinates (Δy/s_y, Δλ/s_λ); Scaling::FromScaled
+// turns them into directions of the unscaled curve.
+
+// Tangent at the first point: the null vector of the scaled [R_y, R_λ] (from a
+// rank-revealing QR, so a start at a fold still works), with its λ component of the sign of
+// lambda_direction. False if the null space is not one-dimensional.
+bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
+                    double residual_scale, double lambda_direction,
+                    Eigen::VectorXd* tangent_scaled);
+
+// Tangent from the bordered system [[R_y, R_λ]; τ_prevᵀ] τ = [0; 1], normalised: the border
+// fixes the orientation (τᵀ τ_prev > 0) and keeps the system regular at simple folds.
+bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
+                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled);
+
+}  // namespace nfrc

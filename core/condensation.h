@@ -1,0 +1,74 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "core/harmonic_set.h"
+#include "core/linear_model.h"
+
+namespace nfrc {
+
+// Exact condensation of a linear model onto retained DOFs, harmonic by harmonic:
+//   Z_red = Z_rr − Z_rl Z_ll⁻¹ Z_lr,   F_red = F_r − Z_rl Z_ll⁻¹ F_l,
+// with their ω-derivatives, and recovery of every DOF after a solve. Complex amplitudes
+// follow DynamicStiffness's convention. Unknown vectors of the condensed problem are
+// real and DOF-major: entry (r, c) of the retained DOF r's coefficient c is at
+// r·NumCoefficients() + c.
+class Condensation {
+ public:
+  enum class Method {
+    kAuto,    // dense below kDenseLimit DOFs, sparse above
+    kDense,   // dense LU per harmonic
+    kSparse,  // SuiteSparse sparse LU per harmonic (KLU, or UMFPACK if fill is heavy)
+  };
+  static constexpr int kDenseLimit = 400;
+
+  // Throws std::invalid_argument if a retained DOF or a forcing DOF is out of range or
+  // repeated in `retained`, or a forcing harmonic is not in `set`.
+  Condensation(LinearModel model, std::vector<int> retained, HarmonicSet set,
+               std::vector<ForcingTerm> forcing, Method method = Method::kAuto);
+  ~Condensation();
+  Condensation(Condensation&&) noexcept;
+  Condensation& operator=(Condensation&&) noexcept;
+
+  // Factorises and condenses at ω (no-op if already at ω). Throws std::runtime_error
+  // naming the harmonic and ω if Z_ll is singular there.
+  void Update(double omega);
+  double omega() const { return omega_; }
+
+  const std::vector<int>& retained() const { return retained_; }
+  const HarmonicSet& harmonic_set() const { return set_; }
+  int num_retained() const { return static_cast<int>(retained_.size()); }
+  int num_unknowns() const { return num_retained() * set_.NumCoefficients(); }
+
+  // Complex condensed operator, its ω-derivative, condensed forcing and its ω-derivative
+  // for the harmonic at `position` in harmonic_set().harmonics() (after Update).
+  const Eigen::MatrixXcd& Z(int position) const;
+  const Eigen::MatrixXcd& dZ(int position) const;
+  const Eigen::VectorXcd& F(int position) const;
+  const Eigen::VectorXcd& dF(int position) const;
+
+  // Real forms in the condensed unknown layout (after Update): the linear residual of the
+  // condensed problem is RealOperator()·x − RealForcing().
+  Eigen::MatrixXd RealOperator() const;
+  Eigen::MatrixXd RealOperatorDerivative() const;
+  Eigen::VectorXd RealForcing() const;
+  Eigen::VectorXd RealForcingDerivative() const;
+
+  // Coefficients of every DOF (num_dofs × NumCoefficients, row = DOF) given the retained
+  // DOFs' coefficients x (condensed layout), at the current ω.
+  Eigen::MatrixXd Recover(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+ private:
+  struct Impl;
+  LinearModel model_;
+  std::vector<int> retained_;
+  HarmonicSet set_;
+  std::vector<ForcingTerm> forcing_;
+  Method method_;
+  double omega_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nfrc

@@ -1,0 +1,148 @@
+#include "core/fourier_transform.h"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <unsupported/Eigen/FFT>
+#include <vector>
+
+namespace nfrc {
+
+// Unscaled half-spectrum real FFT: fwd gives Y_m = Σ_j x_j e^{−2πi jm/N} for m ≤ N/2, inv
+// takes Y_0..Y_{N/2} and returns x_j = Σ_{m=0}^{N−1} Y_m e^{2πi jm/N} (Hermitian extension).
+struct FourierTransform::FftState {
+  Eigen::FFT<double> fft{Eigen::FFT<double>::impl_type(),
+                         static_cast<Eigen::FFT<double>::Flag>(Eigen::FFT<double>::Unscaled |
+                                                               Eigen::FFT<double>::HalfSpectrum)};
+  std::vector<std::complex<double>> spectrum;
+};
+
+namespace {
+
+void CheckShape(const char* name, Eigen::Index rows, Eigen::Index cols, Eigen::Index want_rows,
+                Eigen::Index want_cols) {
+  if (rows != want_rows || cols != want_cols) {
+    throw std::invalid_argument(std::string(name) + ": must be " + std::to_string(want_rows) + "x" +
+                                std::to_string(want_cols) + ", got " + std::to_string(rows) + "x" +
+                                std::to_string(cols));
+  }
+}
+
+}  // namespace
+
+FourierTransform::FourierTransform(const HarmonicSet& set)
+    : set_(set), fft_(std::make_unique<FftState>()) {
+  const int n_t = set_.num_samples();
+  const int n_c = set_.NumCoefficients();
+  fft_->spectrum.assign(n_t / 2 + 1, 0.0);
+
+  derivative_matrix_.setZero(n_c, n_c);
+  sample_matrix_.resize(n_t, n_c);
+  projection_matrix_.resize(n_c, n_t);
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    const int ic = set_.CosIndex(p);
+    const int is = set_.SinIndex(p);
+    if (k == 0) {
+      sample_matrix_.col(ic).setOnes();
+      projection_matrix_.row(ic).setConstant(1.0 / n_t);
+      continue;
+    }
+    derivative_matrix_(ic, is) = k;
+    derivative_matrix_(is, ic) = -k;
+    for (int j = 0; j < n_t; ++j) {
+      // Reduce k·j modulo N_t so the angle stays in [0, 2π) and keeps full accuracy.
+      const long long phase = (static_cast<long long>(k) * j) % n_t;
+      const double theta = 2.0 * std::numbers::pi * static_cast<double>(phase) / n_t;
+      sample_matrix_(j, ic) = std::cos(theta);
+      sample_matrix_(j, is) = std::sin(theta);
+    }
+    projection_matrix_.row(ic) = (2.0 / n_t) * sample_matrix_.col(ic).transpose();
+    projection_matrix_.row(is) = (2.0 / n_t) * sample_matrix_.col(is).transpose();
+  }
+}
+
+FourierTransform::~FourierTransform() = default;
+FourierTransform::FourierTransform(FourierTransform&&) noexcept = default;
+FourierTransform& FourierTransform::operator=(FourierTransform&&) noexcept = default;
+
+void FourierTransform::ToTime(const Eigen::Ref<const Eigen::MatrixXd>& coefficients,
+                              Eigen::Ref<Eigen::MatrixXd> samples) const {
+  const int n_t = set_.num_samples();
+  CheckShape("coefficients", coefficients.rows(), coefficients.cols(), set_.NumCoefficients(),
+             coefficients.cols());
+  CheckShape("samples", samples.rows(), samples.cols(), n_t, coefficients.cols());
+  auto& spectrum = fft_->spectrum;
+  for (Eigen::Index col = 0; col < coefficients.cols(); ++col) {
+    std::fill(spectrum.begin(), spectrum.end(), std::complex<double>(0.0));
+    for (int p = 0; p < set_.num_harmonics(); ++p) {
+      const int k = set_.harmonics()[p];
+      const double a = coefficients(set_.CosIndex(p), col);
+      // a cos kθ + b sin kθ = 2 Re(Y_k e^{ikθ}) with Y_k = (a − ib)/2; Y_0 = a_0.
+      spectrum[k] = k == 0 ? std::complex<double>(a, 0.0)
+                           : 0.5 * std::complex<double>(a, -coefficients(set_.SinIndex(p), col));
+    }
+    fft_->fft.inv(samples.col(col).data(), spectrum.data(), n_t);
+  }
+}
+
+Eigen::MatrixXd FourierTransform::ToTime(
+    const Eigen::Ref<const Eigen::MatrixXd>& coefficients) const {
+  Eigen::MatrixXd samples(set_.num_samples(), coefficients.cols());
+  ToTime(coefficients, samples);
+  return samples;
+}
+
+void FourierTransform::ToCoefficients(const Eigen::Ref<const Eigen::MatrixXd>& samples,
+                                      Eigen::Ref<Eigen::MatrixXd> coefficients) const {
+  const int n_t = set_.num_samples();
+  CheckShape("samples", samples.rows(), samples.cols(), n_t, samples.cols());
+  CheckShape("coefficients", coefficients.rows(), coefficients.cols(), set_.NumCoefficients(),
+             samples.cols());
+  auto& spectrum = fft_->spectrum;
+  for (Eigen::Index col = 0; col < samples.cols(); ++col) {
+    // Columns of a Ref are contiguous (unit inner stride), so the FFT reads them in place.
+    fft_->fft.fwd(spectrum.data(), samples.col(col).data(), n_t);
+    for (int p = 0; p < set_.num_harmonics(); ++p) {
+      const int k = set_.harmonics()[p];
+      if (k == 0) {
+        coefficients(set_.CosIndex(p), col) = spectrum[0].real() / n_t;
+      } else {
+        coefficients(set_.CosIndex(p), col) = 2.0 * spectrum[k].real() / n_t;
+        coefficients(set_.SinIndex(p), col) = -2.0 * spectrum[k].imag() / n_t;
+      }
+    }
+  }
+}
+
+Eigen::MatrixXd FourierTransform::ToCoefficients(
+    const Eigen::Ref<const Eigen::MatrixXd>& samples) const {
+  Eigen::MatrixXd coefficients(set_.NumCoefficients(), samples.cols());
+  ToCoefficients(samples, coefficients);
+  return coefficients;
+}
+
+void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& coefficients,
+                                     Eigen::Ref<Eigen::MatrixXd> derivative) const {
+  CheckShape("coefficients", coefficients.rows(), coefficients.cols(), set_.NumCoefficients(),
+             coefficients.cols());
+  CheckShape("derivative", derivative.rows(), derivative.cols(), set_.NumCoefficients(),
+             coefficients.cols());
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    const int ic = set_.CosIndex(p);
+    if (k == 0) {
+      derivative.row(ic).setZero();
+      continue;
+    }
+    const int is = set_.SinIndex(p);
+    // Row-wise copy through a temporary so in-place use (derivative aliasing coefficients) works.
+    const Eigen::RowVectorXd a = coefficients.row(ic);
+    derivative.row(ic) = k * coefficients.row(is);
+    derivative.row(is) = -k * a;
+  }
+}
+
+}  // namespace nfrc

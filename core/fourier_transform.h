@@ -1,0 +1,56 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+
+#include "core/harmonic_set.h"
+
+namespace nfrc {
+
+// Moves periodic signals between real Fourier coefficients (HarmonicSet layout) and
+// samples at θ_j = 2πj/N_t, j = 0..N_t−1, by real FFT. Signals are columns: coefficient
+// matrices are NumCoefficients() × m, sample matrices are N_t × m.
+// Not thread-safe (the FFT back end caches plans); use one instance per thread.
+class FourierTransform {
+ public:
+  explicit FourierTransform(const HarmonicSet& set);
+  ~FourierTransform();
+  FourierTransform(FourierTransform&&) noexcept;
+  FourierTransform& operator=(FourierTransform&&) noexcept;
+
+  const HarmonicSet& harmonic_set() const { return set_; }
+
+  // samples.col(i) = x_i(θ_j) for the signal with coefficients coefficients.col(i).
+  void ToTime(const Eigen::Ref<const Eigen::MatrixXd>& coefficients,
+              Eigen::Ref<Eigen::MatrixXd> samples) const;
+  Eigen::MatrixXd ToTime(const Eigen::Ref<const Eigen::MatrixXd>& coefficients) const;
+
+  // Galerkin projection of sampled signals onto the set (trapezoidal quadrature on the
+  // samples): a_0 = (1/N_t) Σ x_j, a_k = (2/N_t) Σ x_j cos kθ_j, b_k = (2/N_t) Σ x_j sin kθ_j.
+  // ToCoefficients(ToTime(c)) == c for every c since N_t ≥ 2H + 1.
+  void ToCoefficients(const Eigen::Ref<const Eigen::MatrixXd>& samples,
+                      Eigen::Ref<Eigen::MatrixXd> coefficients) const;
+  Eigen::MatrixXd ToCoefficients(const Eigen::Ref<const Eigen::MatrixXd>& samples) const;
+
+  // d/dθ on coefficients: (a_k, b_k) -> (k·b_k, −k·a_k); the time derivative is ω·D.
+  void Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& coefficients,
+                     Eigen::Ref<Eigen::MatrixXd> derivative) const;
+  // The same operator as a dense NumCoefficients()² matrix D.
+  const Eigen::MatrixXd& DerivativeMatrix() const { return derivative_matrix_; }
+
+  // Dense equivalents for assembling Jacobians: samples = E·c (N_t × n_c) and
+  // c = P·samples (n_c × N_t), with P·E = I. A nonlinearity f(x) sampled in time has
+  // ∂(P f(E c))/∂c = P·diag(f'(E c))·E.
+  const Eigen::MatrixXd& SampleMatrix() const { return sample_matrix_; }
+  const Eigen::MatrixXd& ProjectionMatrix() const { return projection_matrix_; }
+
+ private:
+  struct FftState;
+  HarmonicSet set_;
+  std::unique_ptr<FftState> fft_;
+  Eigen::MatrixXd derivative_matrix_;
+  Eigen::MatrixXd sample_matrix_;
+  Eigen::MatrixXd projection_matrix_;
+};
+
+}  // namespace nfrc

@@ -1,0 +1,21 @@
+#pragma once
+
+#include <Eigen/Sparse>
+
+namespace nfrc {
+
+// Rayleigh damping C = α M + β K (α in 1/s, β in s).
+Eigen::SparseMatrix<double> RayleighDamping(const Eigen::SparseMatrix<double>& mass,
+                                            const Eigen::SparseMatrix<double>& stiffness,
+                                            double alpha, double beta);
+
+// Modal damping with ratio ζ in every mode: C = M Φ diag(2ζω_i) Φᵀ M with mass-normalised
+// modes Φ of the symmetric pencil (K, M). Dense (all modes), so limited to kMaxModalDofs;
+// throws InputError("model.damping.modal_ratio: ...") above it or if M is not positive
+// definite.
+inline constexpr int kMaxModalDofs = 3000;
+Eigen::SparseMatrix<double> ModalDamping(const Eigen::SparseMatrix<double>& mass,
+                                         const Eigen::SparseMatrix<double>& stiffness,
+                                         double ratio);
+
+}  // namespace nfrc

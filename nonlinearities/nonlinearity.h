@@ -1,0 +1,60 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "core/condensation.h"
+#include "core/fourier_transform.h"
+#include "core/harmonic_set.h"
+
+namespace nfrc {
+
+// Where a nonlinearity's quantities sit in the harmonic problem's unknown vector
+// y = [x (retained DOFs, DOF-major coefficients) | own unknowns of each law].
+struct NonlinearityContext {
+  const FourierTransform* fourier = nullptr;
+  // Condensed linear part at the current ω; laws such as DLFT need it, force laws do not.
+  const Condensation* condensation = nullptr;
+  // Position among the retained DOFs of each of the law's Dofs(), in the same order.
+  std::vector<int> local_dofs;
+  // Index in y of the law's first own unknown.
+  int own_offset = 0;
+
+  const HarmonicSet& harmonic_set() const { return fourier->harmonic_set(); }
+  int num_coefficients() const { return harmonic_set().NumCoefficients(); }
+  // First index in y of the coefficients of the law's i-th DOF.
+  int DofOffset(int i) const { return local_dofs[i] * num_coefficients(); }
+};
+
+// A nonlinear law of the harmonic-balance problem (the extension point, like Ceres's
+// CostFunction). It adds its force to the equations of its DOFs and, if it has unknowns of
+// its own (e.g. friction-force coefficients), the equations that close them.
+class Nonlinearity {
+ public:
+  virtual ~Nonlinearity() = default;
+
+  // The case-file type, e.g. "cubic_spring".
+  virtual std::string type() const = 0;
+
+  // Model DOFs the law acts on; the condensation keeps them.
+  virtual std::vector<int> Dofs() const = 0;
+
+  // Number of own unknowns (placed at ctx.own_offset) for a harmonic set.
+  virtual int NumOwnUnknowns(const HarmonicSet& /*set*/) const { return 0; }
+
+  // Adds the law's contributions at (y, ω) to `residual` (size of y) and, when non-null, to
+  // ∂residual/∂y (`jacobian`, square) and ∂residual/∂ω (`d_omega`). Residual rows of the
+  // displacement equations are in force units; the law adds +f_nl there.
+  virtual void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                        Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                        Eigen::VectorXd* d_omega) const = 0;
+
+  // A starting value of the own unknowns given the displacements in y (default zeros).
+  virtual void InitialOwnUnknowns(const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/,
+                                  double /*omega*/, Eigen::Ref<Eigen::VectorXd> own) const {
+    own.setZero();
+  }
+};
+
+}  // namespace nfrc

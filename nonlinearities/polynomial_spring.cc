@@ -1,0 +1,110 @@
+#include "nonlinearities/polynomial_spring.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/input_fields.h"
+
+namespace nfrc {
+
+PolynomialSpring::PolynomialSpring(std::string type, int dof, int other, std::vector<Term> terms)
+    : type_(std::move(type)), dof_(dof), other_(other), terms_(std::move(terms)) {
+  if (terms_.empty()) throw std::invalid_argument("terms: at least one term is needed");
+  for (const Term& term : terms_) {
+    if (term.power < 2) {
+      throw std::invalid_argument("power: must be at least 2 (linear terms belong in K), got " +
+                                  std::to_string(term.power));
+    }
+  }
+  if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
+}
+
+namespace {
+
+std::unique_ptr<Nonlinearity> MakeSpring(InputFields& fields, const std::string& type,
+                                         const LinearModel& model,
+                                         std::vector<PolynomialSpring::Term> terms) {
+  const int dof = fields.RequiredDof("dof", model);
+  const int other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
+  if (dof == other) fields.Fail("other", "must differ from dof");
+  fields.Finish();
+  return std::make_unique<PolynomialSpring>(type, dof, other, std::move(terms));
+}
+
+}  // namespace
+
+std::unique_ptr<Nonlinearity> PolynomialSpring::CubicFromJson(const nlohmann::json& spec,
+                                                              const std::string& path,
+                                                              const LinearModel& model) {
+  InputFields fields(spec, path);
+  fields.RequiredString("type");
+  const double coefficient = fields.RequiredNumber("coefficient");
+  return MakeSpring(fields, "cubic_spring", model, {Term{3, coefficient}});
+}
+
+std::unique_ptr<Nonlinearity> PolynomialSpring::PolynomialFromJson(const nlohmann::json& spec,
+                                                                   const std::string& path,
+                                                                   const LinearModel& model) {
+  InputFields fields(spec, path);
+  fields.RequiredString("type");
+  const nlohmann::json& list = fields.RequiredValue("terms");
+  if (!list.is_array() || list.empty()) fields.Fail("terms", "expected a non-empty list");
+  std::vector<Term> terms;
+  for (size_t i = 0; i < list.size(); ++i) {
+    InputFields term(list[i], path + ".terms[" + std::to_string(i) + "]");
+    const int power = term.RequiredInt("power");
+    if (power < 2) term.Fail("power", "must be at least 2 (linear terms belong in K)");
+    terms.push_back(Term{power, term.RequiredNumber("coefficient")});
+    term.Finish();
+  }
+  return MakeSpring(fields, "polynomial_spring", model, std::move(terms));
+}
+
+std::vector<int> PolynomialSpring::Dofs() const {
+  if (other_ < 0) return {dof_};
+  return {dof_, other_};
+}
+
+void PolynomialSpring::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                double /*omega*/, Eigen::Ref<Eigen::VectorXd> residual,
+                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* d_omega) const {
+  const FourierTransform& fourier = *ctx.fourier;
+  const int nc = ctx.num_coefficients();
+  const int row_dof = ctx.DofOffset(0);
+  Eigen::VectorXd relative = y.segment(row_dof, nc);
+  const bool grounded = other_ < 0;
+  const int row_other = grounded ? -1 : ctx.DofOffset(1);
+  if (!grounded) relative -= y.segment(row_other, nc);
+
+  const Eigen::MatrixXd u = fourier.ToTime(relative);
+  Eigen::MatrixXd force(u.rows(), 1);
+  Eigen::VectorXd stiffness(u.rows());
+  for (Eigen::Index j = 0; j < u.rows(); ++j) {
+    double f = 0.0;
+    double df = 0.0;
+    for (const Term& term : terms_) {
+      f += term.coefficient * std::pow(u(j, 0), term.power);
+      df += term.coefficient * term.power * std::pow(u(j, 0), term.power - 1);
+    }
+    force(j, 0) = f;
+    stiffness(j) = df;
+  }
+  const Eigen::VectorXd force_coefficients = fourier.ToCoefficients(force);
+  residual.segment(row_dof, nc) += force_coefficients;
+  if (!grounded) residual.segment(row_other, nc) -= force_coefficients;
+
+  if (jacobian != nullptr) {
+    const Eigen::MatrixXd block = fourier.ProjectionMatrix() * stiffness.asDiagonal() *
+                                  fourier.SampleMatrix();
+    jacobian->block(row_dof, row_dof, nc, nc) += block;
+    if (!grounded) {
+      jacobian->block(row_dof, row_other, nc, nc) -= block;
+      jacobian->block(row_other, row_dof, nc, nc) -= block;
+      jacobian->block(row_other, row_other, nc, nc) += block;
+    }
+  }
+  // A displacement law: no dependence on ω.
+  (void)d_omega;
+}
+
+}  // namespace nfrc

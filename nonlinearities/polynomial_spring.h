@@ -1,0 +1,48 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <memory>
+#include <vector>
+
+#include "core/linear_model.h"
+#include "nonlinearities/nonlinearity.h"
+
+namespace nfrc {
+
+// Polynomial stiffness f(u) = Σ_p c_p u^p on the relative displacement u = x_dof − x_other
+// (or u = x_dof against ground), evaluated by alternating frequency–time: +f acts on
+// `dof`, −f on `other`. The cubic spring is the single term p = 3.
+class PolynomialSpring : public Nonlinearity {
+ public:
+  struct Term {
+    int power = 3;  // p ≥ 2 (linear terms belong in K)
+    double coefficient = 0.0;  // force / length^p
+  };
+
+  // other < 0 means ground. Throws std::invalid_argument for an empty term list, p < 2,
+  // or dof == other.
+  PolynomialSpring(std::string type, int dof, int other, std::vector<Term> terms);
+
+  // Case-file factories: "cubic_spring" {dof, [other], coefficient} and
+  // "polynomial_spring" {dof, [other], terms: [{power, coefficient}, ...]}.
+  static std::unique_ptr<Nonlinearity> CubicFromJson(const nlohmann::json& spec,
+                                                      const std::string& path,
+                                                      const LinearModel& model);
+  static std::unique_ptr<Nonlinearity> PolynomialFromJson(const nlohmann::json& spec,
+                                                           const std::string& path,
+                                                           const LinearModel& model);
+
+  std::string type() const override { return type_; }
+  std::vector<int> Dofs() const override;
+  void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                Eigen::VectorXd* d_omega) const override;
+
+ private:
+  std::string type_;
+  int dof_;
+  int other_;
+  std::vector<Term> terms_;
+};
+
+}  // namespace nfrc

@@ -1,0 +1,138 @@
+#include "continuation/corrector.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "continuation/augmented_system.h"
+#include "test_problems.h"
+
+namespace nfrc {
+namespace {
+
+using testing::CubicProblem;
+
+// Closed-form quantities computed in a handful of flops agree to rounding.
+constexpr double kRoundoff = 1e-13;
+
+doctest::Approx Near(double value) { return doctest::Approx(value).epsilon(kRoundoff); }
+
+// R = atan(y) − λ: plain Newton from |y| ≳ 1.39 overshoots further each iteration, damped
+// Newton converges (the classic line-search example).
+class ArctanProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    (*residual)(0) = std::atan(y(0)) - lambda;
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 1.0 / (1.0 + y(0) * y(0));
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = -1.0;
+    return true;
+  }
+};
+
+Scaling UnitScaling(int n) {
+  Scaling scaling(std::vector<int>(n, 0), 1.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::Ones(n));
+  return scaling;
+}
+
+TEST_CASE("augmented system: regular at a fold where R_y is singular") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling = UnitScaling(1);
+  Linearization at_fold;
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(-1.0, 2.0 / 3.0), &at_fold));
+  CHECK(at_fold.jacobian_y(0, 0) == 0.0);
+  // Border with the tangent at the fold, (Δy, Δλ) ∝ (1, 0): [[0, −1], [1, 0]] is orthogonal.
+  const Eigen::MatrixXd a = AugmentedMatrix(at_fold, scaling, 1.0, Eigen::Vector2d(1.0, 0.0));
+  CHECK(Eigen::PartialPivLU<Eigen::MatrixXd>(a).rcond() == Near(1.0));
+  Eigen::VectorXd x;
+  REQUIRE(SolveAugmented(a, Eigen::Vector2d(3.0, 5.0), &x));
+  CHECK(x(0) == Near(5.0));
+  CHECK(x(1) == Near(-3.0));
+}
+
+TEST_CASE("augmented system: a singular matrix falls back to the full-pivoting LU") {
+  Eigen::Matrix2d a;
+  a << 1.0, 1.0, 1.0, 1.0;
+  Eigen::VectorXd x;
+  REQUIRE(SolveAugmented(a, Eigen::Vector2d(2.0, 2.0), &x));
+  // Consistent right-hand side: the fallback returns an exact solution (to rounding).
+  CHECK((a * x - Eigen::Vector2d(2.0, 2.0)).norm() < kRoundoff);
+}
+
+TEST_CASE("corrector: converges quadratically through a fold") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling = UnitScaling(1);
+  NewtonSettings settings;
+  settings.residual_scale = 2.0;
+  // Predicted 0.01 past the fold along its tangent; the arclength row pins y = −0.99.
+  const CorrectorResult result = CorrectOnArclength(
+      evaluator, scaling, settings, Eigen::Vector2d(-0.99, 2.0 / 3.0), Eigen::Vector2d(1.0, 0.0));
+  REQUIRE(result.converged);
+  CHECK(result.u(0) == Near(-0.99));
+  const double expected_lambda = -0.99 * -0.99 * -0.99 / 3.0 + 0.99;
+  CHECK(result.u(1) == Near(expected_lambda));
+  // The first update is exact up to the O(1e-4) curvature term: Newton needs 2–3 solves.
+  CHECK(result.iterations <= 3);
+  CHECK(result.residual_norm <= settings.residual_tolerance * settings.residual_scale);
+}
+
+TEST_CASE("corrector: fixed lambda keeps lambda exactly") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling = UnitScaling(1);
+  NewtonSettings settings;
+  settings.residual_scale = 2.0;
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, scaling, settings, Eigen::Vector2d(3.0, 2.0));
+  REQUIRE(result.converged);
+  CHECK(result.u(1) == 2.0);
+  const double y = result.u(0);
+  CHECK(std::abs(y * y * y / 3.0 - y - 2.0) <= settings.residual_tolerance * 2.0);
+}
+
+TEST_CASE("corrector: the line search rescues Newton where the full step diverges") {
+  ArctanProblem problem;
+  const Scaling scaling = UnitScaling(1);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = 50;
+
+  settings.line_search = false;
+  Evaluator plain(problem);
+  const CorrectorResult diverged =
+      CorrectAtFixedLambda(plain, scaling, settings, Eigen::Vector2d(3.0, 0.0));
+  CHECK_FALSE(diverged.converged);
+  CHECK_FALSE(diverged.failure.empty());
+
+  settings.line_search = true;
+  Evaluator damped(problem);
+  const CorrectorResult converged =
+      CorrectAtFixedLambda(damped, scaling, settings, Eigen::Vector2d(3.0, 0.0));
+  REQUIRE(converged.converged);
+  // atan(y) = 0 at y = 0; Newton's last update (scale 1) is below the update tolerance.
+  CHECK(std::abs(converged.u(0)) < settings.update_tolerance);
+}
+
+TEST_CASE("corrector: a failing Evaluate is a failed correction, not a point") {
+  class FailingProblem : public ContinuationProblem {
+   public:
+    int NumUnknowns() const override { return 1; }
+    bool Evaluate(const Eigen::VectorXd&, double, Eigen::VectorXd*, Eigen::MatrixXd*,
+                  Eigen::VectorXd*) override {
+      return false;
+    }
+  } problem;
+  Evaluator evaluator(problem);
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, UnitScaling(1), NewtonSettings{}, Eigen::Vector2d(0, 0));
+  CHECK_FALSE(result.converged);
+  CHECK(result.failure.find("evaluation failed") != std::string::npos);
+  CHECK(evaluator.num_evaluations() == 1);
+}
+
+}  // namespace
+}  // namespace nfrc

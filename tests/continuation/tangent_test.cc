@@ -1,0 +1,61 @@
+#include "continuation/tangent.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "test_problems.h"
+
+namespace nfrc {
+namespace {
+
+using testing::CubicProblem;
+
+// Closed-form quantities computed in a handful of flops agree to rounding.
+constexpr double kRoundoff = 1e-13;
+
+doctest::Approx Near(double value) { return doctest::Approx(value).epsilon(kRoundoff); }
+
+TEST_CASE("tangent: the first one points towards lambda_end, even from a fold") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  Scaling scaling({0}, 1.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::Constant(1, 2.0));
+  Linearization regular;
+  // y = 2: R_y = 3, R_λ = −1, so dy/dλ = 1/3 and the scaled tangent ∝ (1/3 / 2, 1).
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(2.0, 2.0 / 3.0), &regular));
+  Eigen::VectorXd up, down;
+  REQUIRE(InitialTangent(regular, scaling, 1.0, 1.0, &up));
+  REQUIRE(InitialTangent(regular, scaling, 1.0, -1.0, &down));
+  CHECK(up(1) > 0.0);
+  CHECK(down(1) < 0.0);
+  CHECK(up.norm() == Near(1.0));
+  CHECK(up(0) / up(1) == Near(1.0 / 6.0));
+
+  Linearization fold;
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(-1.0, 2.0 / 3.0), &fold));
+  Eigen::VectorXd at_fold;
+  REQUIRE(InitialTangent(fold, scaling, 1.0, 1.0, &at_fold));
+  CHECK(std::abs(at_fold(0)) == Near(1.0));
+  CHECK(at_fold(1) == Near(0.0));
+}
+
+TEST_CASE("tangent: the bordered tangent keeps the orientation of the previous one") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  Scaling scaling({0}, 1.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::Constant(1, 1.0));
+  Linearization fold;
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(-1.0, 2.0 / 3.0), &fold));
+  for (double sign : {1.0, -1.0}) {
+    const Eigen::Vector2d previous = sign * Eigen::Vector2d(1.0, 0.1).normalized();
+    Eigen::VectorXd tangent;
+    REQUIRE(NextTangent(fold, scaling, 1.0, previous, &tangent));
+    CHECK(tangent.dot(previous) > 0.0);
+    CHECK(tangent(0) == Near(sign));
+    CHECK(tangent(1) == Near(0.0));
+  }
+}
+
+}  // namespace
+}  // namespace nfrc

@@ -1,0 +1,283 @@
+#include "core/condensation.h"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/dynamic_stiffness.h"
+
+namespace nfrc {
+namespace {
+
+using Complex = std::complex<double>;
+using Method = Condensation::Method;
+
+// Error of a against b relative to the largest entry of b; absolute if b is zero (harmonics
+// without forcing), where entries of these O(1) models would be O(1) if wrong.
+template <typename A, typename B>
+double RelError(const A& a, const B& b) {
+  const double scale = b.cwiseAbs().maxCoeff();
+  return (a - b).cwiseAbs().maxCoeff() / (scale > 0.0 ? scale : 1.0);
+}
+
+// Complex forcing vector of every DOF for harmonic k, built from the terms by hand.
+Eigen::VectorXcd FullForcing(int n, const std::vector<ForcingTerm>& forcing, int k) {
+  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n);
+  for (const ForcingTerm& t : forcing) {
+    if (t.harmonic == k) f(t.dof) += Complex(t.cos, k == 0 ? 0.0 : -t.sin);
+  }
+  return f;
+}
+
+// Real coefficients (row = DOF) of complex amplitudes per harmonic: a = Re X, b = −Im X.
+Eigen::MatrixXd ToReal(const HarmonicSet& set, const std::vector<Eigen::VectorXcd>& x) {
+  Eigen::MatrixXd real(x[0].size(), set.NumCoefficients());
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    real.col(set.CosIndex(p)) = x[p].real();
+    if (set.harmonics()[p] != 0) real.col(set.SinIndex(p)) = -x[p].imag();
+  }
+  return real;
+}
+
+// Condensed unknown vector (DOF-major) of the retained rows of full real coefficients.
+Eigen::VectorXd Condensed(const Eigen::MatrixXd& real, const std::vector<int>& retained) {
+  const int n_c = static_cast<int>(real.cols());
+  Eigen::VectorXd x(retained.size() * n_c);
+  for (size_t i = 0; i < retained.size(); ++i) x.segment(i * n_c, n_c) = real.row(retained[i]);
+  return x;
+}
+
+LinearModel RandomModel(int n, bool symmetric, unsigned seed) {
+  std::srand(seed);
+  auto random = [&](double diagonal) {
+    Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+    if (symmetric) a = (a + a.transpose()).eval() / 2.0;
+    return Eigen::MatrixXd(a + diagonal * Eigen::MatrixXd::Identity(n, n));
+  };
+  LinearModel model;
+  model.mass = random(4.0).sparseView();
+  model.damping = (0.2 * random(1.0)).sparseView();
+  model.stiffness = random(6.0).sparseView();
+  return model;
+}
+
+// Condensation at ω compared with a dense solve of the full complex system Z x = F.
+void CheckAgainstFullSolve(const LinearModel& model, const std::vector<int>& retained,
+                           const HarmonicSet& set, const std::vector<ForcingTerm>& forcing,
+                           Method method, double omega, double tol) {
+  const int n = model.num_dofs();
+  Condensation condensation(model, retained, set, forcing, method);
+  condensation.Update(omega);
+  CHECK(condensation.omega() == omega);
+  std::vector<Eigen::VectorXcd> full(set.num_harmonics());
+  std::vector<Eigen::VectorXcd> reduced(set.num_harmonics());
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    const int k = set.harmonics()[p];
+    INFO("harmonic " << k);
+    const Eigen::MatrixXcd z(DynamicStiffness(model, k, omega));
+    full[p] = z.fullPivLu().solve(FullForcing(n, forcing, k));
+    reduced[p] = condensation.Z(p).fullPivLu().solve(condensation.F(p));
+    Eigen::VectorXcd expected(retained.size());
+    for (size_t i = 0; i < retained.size(); ++i) expected(i) = full[p](retained[i]);
+    CHECK(RelError(reduced[p], expected) < tol);
+  }
+  const Eigen::MatrixXd full_real = ToReal(set, full);
+  const Eigen::VectorXd x = Condensed(full_real, retained);
+  // The real operator solves to the same condensed coefficients.
+  const Eigen::VectorXd x_real =
+      condensation.RealOperator().fullPivLu().solve(condensation.RealForcing());
+  CHECK(RelError(x_real, x) < tol);
+  // Recovery from the retained coefficients gives every DOF.
+  CHECK(RelError(condensation.Recover(x), full_real) < tol);
+}
+
+// dZ_red and dF_red (complex and real forms) against central differences in ω.
+void CheckDerivatives(const LinearModel& model, const std::vector<int>& retained,
+                      const HarmonicSet& set, const std::vector<ForcingTerm>& forcing,
+                      Method method, double omega) {
+  // Z_red is rational in ω. With h = 1e-5 the truncation error h²|Z'''|/6 measures ~9e-9
+  // relative here (it scales as h²) and rounding eps|Z|/h ~1e-10: 1e-7 leaves 10× margin,
+  // while a missing or wrong term of dZ_red is O(1) relative.
+  constexpr double kTol = 1e-7;
+  const double h = 1e-5;
+  Condensation plus(model, retained, set, forcing, method);
+  Condensation minus(model, retained, set, forcing, method);
+  Condensation at(model, retained, set, forcing, method);
+  plus.Update(omega + h);
+  minus.Update(omega - h);
+  at.Update(omega);
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    const int k = set.harmonics()[p];
+    INFO("harmonic " << k);
+    const Eigen::MatrixXcd dz = (plus.Z(p) - minus.Z(p)) / (2 * h);
+    const Eigen::VectorXcd df = (plus.F(p) - minus.F(p)) / (2 * h);
+    if (k == 0) {
+      CHECK(at.dZ(p).cwiseAbs().maxCoeff() == 0.0);
+      CHECK(at.dF(p).cwiseAbs().maxCoeff() == 0.0);
+      continue;
+    }
+    CHECK(RelError(at.dZ(p), dz) < kTol);
+    CHECK(RelError(at.dF(p), df) < kTol);
+  }
+  const Eigen::MatrixXd d_real = (plus.RealOperator() - minus.RealOperator()) / (2 * h);
+  const Eigen::VectorXd df_real = (plus.RealForcing() - minus.RealForcing()) / (2 * h);
+  CHECK(RelError(at.RealOperatorDerivative(), d_real) < kTol);
+  CHECK(RelError(at.RealForcingDerivative(), df_real) < kTol);
+}
+
+TEST_CASE("Condensation of small dense models equals the full solve") {
+  // Well-conditioned 8-DOF models (diagonally dominant, damped): dense and sparse LU agree
+  // with the full solve to ~1e-14; 1e-10 leaves room and still catches any wrong term.
+  constexpr double kTol = 1e-10;
+  const std::vector<int> retained = {5, 1, 6};  // unsorted on purpose
+  // Forcing on retained and condensed DOFs, including a constant term.
+  const std::vector<ForcingTerm> full_forcing = {{.dof = 5, .harmonic = 1, .cos = 1.0, .sin = 0.5},
+                                                 {.dof = 2, .harmonic = 1, .cos = -0.3, .sin = 0.7},
+                                                 {.dof = 7, .harmonic = 3, .cos = 0.2, .sin = -1.0},
+                                                 {.dof = 0, .harmonic = 0, .cos = 0.4, .sin = 0.0}};
+  const std::vector<ForcingTerm> odd_forcing(full_forcing.begin(), full_forcing.begin() + 3);
+  for (bool symmetric : {true, false}) {
+    const LinearModel model = RandomModel(8, symmetric, symmetric ? 1 : 2);
+    for (Method method : {Method::kDense, Method::kSparse, Method::kAuto}) {
+      INFO("symmetric " << symmetric << ", method " << static_cast<int>(method));
+      const HarmonicSet full(3, false);
+      const HarmonicSet odd(5, true);
+      CheckAgainstFullSolve(model, retained, full, full_forcing, method, 1.3, kTol);
+      CheckAgainstFullSolve(model, retained, odd, odd_forcing, method, 0.8, kTol);
+      CheckDerivatives(model, retained, full, full_forcing, method, 1.3);
+      CheckDerivatives(model, retained, odd, odd_forcing, method, 0.8);
+    }
+  }
+}
+
+TEST_CASE("Condensation real operator is the documented arrangement of the complex blocks") {
+  const LinearModel model = RandomModel(5, false, 3);
+  const HarmonicSet set(2, false);
+  const std::vector<int> retained = {3, 0};
+  const std::vector<ForcingTerm> forcing = {{.dof = 1, .harmonic = 2, .cos = 1.0, .sin = 2.0}};
+  Condensation condensation(model, retained, set, forcing);
+  condensation.Update(0.7);
+  const Eigen::MatrixXd real = condensation.RealOperator();
+  const Eigen::VectorXd f = condensation.RealForcing();
+  const int n_c = set.NumCoefficients();
+  REQUIRE(real.rows() == condensation.num_unknowns());
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    const int ic = set.CosIndex(p), is = set.SinIndex(p);
+    for (int i = 0; i < 2; ++i) {
+      CHECK(f(i * n_c + ic) == condensation.F(p)(i).real());
+      if (p > 0) CHECK(f(i * n_c + is) == -condensation.F(p)(i).imag());
+      for (int j = 0; j < 2; ++j) {
+        const Complex z = condensation.Z(p)(i, j);
+        CHECK(real(i * n_c + ic, j * n_c + ic) == z.real());
+        if (p == 0) continue;
+        CHECK(real(i * n_c + ic, j * n_c + is) == z.imag());
+        CHECK(real(i * n_c + is, j * n_c + ic) == -z.imag());
+        CHECK(real(i * n_c + is, j * n_c + is) == z.real());
+      }
+    }
+  }
+  // No coupling between different harmonics.
+  CHECK(real(0 * n_c + 1, 1 * n_c + 3) == 0.0);
+  CHECK(real(1 * n_c + 0, 0 * n_c + 4) == 0.0);
+}
+
+TEST_CASE("Condensation with every DOF retained is the plain dynamic stiffness") {
+  const LinearModel model = RandomModel(4, false, 4);
+  const HarmonicSet set(2, false);
+  const std::vector<int> retained = {2, 0, 3, 1};
+  const std::vector<ForcingTerm> forcing = {{.dof = 3, .harmonic = 1, .cos = 1.0, .sin = -2.0}};
+  for (Method method : {Method::kDense, Method::kSparse}) {
+    Condensation condensation(model, retained, set, forcing, method);
+    condensation.Update(1.1);
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      const int k = set.harmonics()[p];
+      const Eigen::MatrixXcd z(DynamicStiffness(model, k, 1.1));
+      const Eigen::MatrixXcd dz(DynamicStiffnessDerivative(model, k, 1.1));
+      const Eigen::VectorXcd f = FullForcing(4, forcing, k);
+      for (int i = 0; i < 4; ++i) {
+        CHECK(condensation.F(p)(i) == f(retained[i]));
+        CHECK(condensation.dF(p)(i) == Complex(0.0));
+        for (int j = 0; j < 4; ++j) {
+          CHECK(condensation.Z(p)(i, j) == z(retained[i], retained[j]));
+          CHECK(condensation.dZ(p)(i, j) == dz(retained[i], retained[j]));
+        }
+      }
+    }
+    const Eigen::VectorXd x = Eigen::VectorXd::Random(condensation.num_unknowns());
+    const Eigen::MatrixXd all = condensation.Recover(x);
+    for (int i = 0; i < 4; ++i) {
+      CHECK(all.row(retained[i]).transpose() ==
+            x.segment(i * set.NumCoefficients(), set.NumCoefficients()));
+    }
+  }
+}
+
+TEST_CASE("Condensation caches per frequency and is movable") {
+  const LinearModel model = RandomModel(6, true, 5);
+  const HarmonicSet set(3, true);
+  Condensation condensation(model, {1, 4}, set, {{.dof = 0, .harmonic = 3, .cos = 1.0}});
+  CHECK_THROWS_AS((void)condensation.Z(0), std::logic_error);
+  condensation.Update(0.9);
+  const Eigen::MatrixXcd z = condensation.Z(1);
+  condensation.Update(0.9);
+  CHECK(condensation.Z(1) == z);
+  condensation.Update(1.4);
+  CHECK(condensation.omega() == 1.4);
+  CHECK(condensation.Z(1) != z);
+  Condensation moved(std::move(condensation));
+  moved.Update(0.9);
+  CHECK(moved.Z(1) == z);
+  CHECK_THROWS_WITH_AS((void)moved.Z(2), doctest::Contains("position"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(moved.Recover(Eigen::VectorXd::Zero(3)), doctest::Contains("x"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("Condensation rejects bad input") {
+  const LinearModel model = RandomModel(4, true, 6);
+  const HarmonicSet odd(3, true);
+  auto make = [&](std::vector<int> retained, std::vector<ForcingTerm> forcing) {
+    Condensation condensation(model, std::move(retained), odd, std::move(forcing));
+  };
+  CHECK_THROWS_WITH_AS(make({}, {}), doctest::Contains("retained"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(make({0, 4}, {}), doctest::Contains("retained"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(make({-1}, {}), doctest::Contains("retained"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(make({2, 1, 2}, {}), doctest::Contains("retained"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(make({0}, {{.dof = 4, .harmonic = 1}}), doctest::Contains("forcing"),
+                       std::invalid_argument);
+  // Harmonics 0 and 2 are not in an odd set.
+  CHECK_THROWS_WITH_AS(make({0}, {{.dof = 1, .harmonic = 2}}), doctest::Contains("harmonic"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(make({0}, {{.dof = 1, .harmonic = 0}}), doctest::Contains("forcing"),
+                       std::invalid_argument);
+  LinearModel bad = model;
+  bad.mass.resize(3, 3);
+  CHECK_THROWS_WITH_AS(Condensation(bad, {0}, odd, {}), doctest::Contains("mass"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("Condensation reports a singular Z_ll with harmonic and frequency") {
+  // Condensed DOF 1: k = 4, m = 1, no damping, so Z_ll of harmonic 1 vanishes at ω = 2.
+  LinearModel model;
+  const Eigen::Matrix2d k{{3.0, -1.0}, {-1.0, 4.0}};
+  model.stiffness = k.sparseView();
+  model.mass = Eigen::Matrix2d::Identity().sparseView();
+  model.damping.resize(2, 2);
+  const HarmonicSet set(3, true);
+  for (Method method : {Method::kDense, Method::kSparse}) {
+    Condensation condensation(model, {0}, set, {}, method);
+    CHECK_THROWS_WITH_AS(condensation.Update(2.0), doctest::Contains("harmonic 1, omega = 2"),
+                         std::runtime_error);
+    CHECK_THROWS_AS((void)condensation.Z(0), std::logic_error);  // no stale result
+    // A regular frequency afterwards works again.
+    condensation.Update(1.5);
+    const Complex z = condensation.Z(0)(0, 0);
+    CHECK(z.real() == doctest::Approx(3.0 - 2.25 - 1.0 / (4.0 - 2.25)));
+    CHECK(z.imag() == 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace nfrc

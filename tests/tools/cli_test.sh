@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# End-to-end checks of the nfrc program: exit codes, messages and files on disk.
+# usage: cli_test.sh NFRC_BINARY SOURCE_DIR
+set -u
+nfrc=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+expect() {  # expect NAME EXIT_CODE MESSAGE_SUBSTRING -- command...
+  local name=$1 code=$2 message=$3
+  shift 4
+  "$@" >"$work/out" 2>"$work/err"
+  local got=$?
+  if [ "$got" -ne "$code" ] || ! grep -qF -- "$message" "$work/err" "$work/out"; then
+    echo "FAIL $name: exit $got (want $code), output:"; cat "$work/err" "$work/out"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name"
+  fi
+}
+
+expect "usage" 2 "usage:" -- "$nfrc"
+expect "unknown command" 2 "unknown command" -- "$nfrc" frobnicate
+expect "missing --out" 2 "needs a case file and --out DIR" -- "$nfrc" run "$src/cases/duffing.json"
+expect "missing case" 1 "cannot open case file" -- "$nfrc" run "$work/none.json" --out "$work/o"
+expect "invalid json" 1 "not valid JSON" -- "$nfrc" run "$src/tests/tools/data/not_json.json" --out "$work/o"
+expect "singular model" 1 "model: the linear dynamic stiffness is singular" -- \
+  "$nfrc" run "$src/tests/tools/data/singular.json" --out "$work/o"
+
+expect "duffing run" 0 "2 folds" -- "$nfrc" run "$src/cases/duffing.json" --out "$work/duffing"
+for f in branch.json branch.csv; do
+  [ -s "$work/duffing/$f" ] || { echo "FAIL duffing run: $f missing"; failures=$((failures + 1)); }
+done
+grep -q "omega=" "$work/err" || { echo "FAIL progress lines missing on stderr"; failures=$((failures + 1)); }
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures CLI check(s) failed"
+  exit 1
+fi
+echo "all CLI checks passed"

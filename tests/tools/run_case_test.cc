@@ -1,0 +1,64 @@
+#include "tools/run_case.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace nfrc {
+namespace {
+
+std::string OutDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nfrc_run_test_" + name);
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST_CASE("nfrc run writes branch.json with points, folds and summary; measures are right") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
+  const std::string dir = OutDir("h1");
+  const Branch branch = RunCase(the_case, dir, nullptr);
+  const nlohmann::json doc = ReadJson(dir + "/branch.json");
+  CHECK(doc["program"] == "nfrc");
+  CHECK(doc["harmonics"]["max"] == 1);
+  CHECK(doc["points"].size() == branch.points.size());
+  CHECK(doc["folds"].size() == 2);
+  CHECK(doc["summary"]["termination"] == ToString(TerminationReason::kReachedLambdaBound));
+  // With one harmonic, max |x(t)| equals the first-harmonic amplitude √(a² + b²); the fine
+  // resampling (≥ 512 samples) finds the peak to 1 − cos(π/512) ≈ 2e-5 relative.
+  for (const auto& point : doc["points"]) {
+    const double h1 = point["h1"][0];
+    const double max_abs = point["max_abs"][0];
+    CHECK(max_abs <= h1 * (1 + 1e-12));
+    CHECK(max_abs >= h1 * (1 - 2e-5));
+  }
+  const auto& last = branch.points.back();
+  CHECK(doc["points"].back()["h1"][0].get<double>() ==
+        doctest::Approx(std::hypot(last.y(0), last.y(1))).epsilon(1e-12));
+  // CSV: header plus one line per point.
+  std::ifstream csv(dir + "/branch.csv");
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  CHECK(lines == static_cast<int>(branch.points.size()) + 1);
+}
+
+TEST_CASE("a run stopped part-way keeps its points on disk and says why") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
+  const std::string dir = OutDir("stopped");
+  const std::atomic<bool> stop{true};  // as if SIGINT arrived during the first point
+  const Branch branch = RunCase(the_case, dir, nullptr, &stop);
+  CHECK(branch.summary.reason == TerminationReason::kStoppedByObserver);
+  const nlohmann::json doc = ReadJson(dir + "/branch.json");
+  CHECK(doc["points"].size() == 1);
+  CHECK(doc["summary"]["termination"] == ToString(TerminationReason::kStoppedByObserver));
+  CHECK(doc["summary"]["message"].get<std::string>().find("interrupted") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace nfrc

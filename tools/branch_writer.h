@@ -1,0 +1,48 @@
+#pragma once
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "continuation/continuation.h"
+#include "tools/case_file.h"
+#include "tools/harmonic_system.h"
+#include "tools/point_measures.h"
+
+namespace nfrc {
+
+// Streams a branch to DIR/branch.csv (a line per point, flushed) and DIR/branch.json
+// (rewritten atomically at most every kJsonInterval and at the end), so a run that stops
+// part-way leaves every point computed so far on disk.
+class BranchWriter : public ContinuationObserver {
+ public:
+  static constexpr std::chrono::milliseconds kJsonInterval{2000};
+
+  // Creates `dir` if needed; throws std::runtime_error if it cannot write there.
+  BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system);
+
+  bool OnPoint(const BranchPoint& point, int index) override;
+  void OnFold(const Fold& fold) override;
+
+  // Writes the final branch.json with the summary.
+  void Finish(const ContinuationSummary& summary);
+
+  const nlohmann::json& document() const { return document_; }
+
+ private:
+  void WriteJson();
+
+  std::string dir_;
+  const Case& case_;
+  HarmonicSystem& system_;
+  PointAnalyzer analyzer_;
+  std::ofstream csv_;
+  nlohmann::json document_;
+  std::chrono::steady_clock::time_point last_json_write_;
+};
+
+// nlohmann::json summary of a continuation run.
+nlohmann::json SummaryToJson(const ContinuationSummary& summary);
+
+}  // namespace nfrc

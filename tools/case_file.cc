@@ -1,0 +1,124 @@
+#include "tools/case_file.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/input_fields.h"
+#include "nonlinearities/registry.h"
+
+namespace nfrc {
+namespace {
+
+HarmonicSet ReadHarmonics(const nlohmann::json& spec) {
+  InputFields fields(spec, "harmonics");
+  const int max_harmonic = fields.RequiredInt("max");
+  const bool odd_only = fields.OptionalBool("odd_only", false);
+  const int samples = fields.OptionalInt("samples", 0);
+  fields.Finish();
+  if (max_harmonic < 1) fields.Fail("max", "must be at least 1, got " + std::to_string(max_harmonic));
+  if (fields.Has("samples") && samples < 2 * max_harmonic + 1) {
+    fields.Fail("samples", "must be at least 2*max+1 = " + std::to_string(2 * max_harmonic + 1) +
+                               ", got " + std::to_string(samples));
+  }
+  return HarmonicSet(max_harmonic, odd_only, samples);
+}
+
+ContinuationOptions ReadContinuation(const nlohmann::json& spec) {
+  InputFields fields(spec, "continuation");
+  ContinuationOptions options;
+  options.lambda_start = fields.RequiredNumber("omega_start");
+  options.lambda_end = fields.RequiredNumber("omega_end");
+  if (options.lambda_start <= 0.0) fields.Fail("omega_start", "must be positive");
+  if (options.lambda_end <= 0.0) fields.Fail("omega_end", "must be positive");
+  if (options.lambda_end == options.lambda_start) {
+    fields.Fail("omega_end", "must differ from omega_start");
+  }
+  options.initial_step = fields.OptionalNumber("step", options.initial_step);
+  options.min_step = fields.OptionalNumber("min_step", options.min_step);
+  options.max_step = fields.OptionalNumber("max_step", options.max_step);
+  options.max_points = fields.OptionalInt("max_points", options.max_points);
+  options.max_newton_iterations =
+      fields.OptionalInt("max_newton_iterations", options.max_newton_iterations);
+  options.target_newton_iterations =
+      fields.OptionalInt("target_newton_iterations", options.target_newton_iterations);
+  options.newton_tolerance = fields.OptionalNumber("newton_tolerance", options.newton_tolerance);
+  options.residual_tolerance =
+      fields.OptionalNumber("residual_tolerance", options.residual_tolerance);
+  options.max_tangent_angle = fields.OptionalNumber("max_tangent_angle", options.max_tangent_angle);
+  options.detect_folds = fields.OptionalBool("detect_folds", options.detect_folds);
+  options.fold_tolerance = fields.OptionalNumber("fold_tolerance", options.fold_tolerance);
+  options.line_search = fields.OptionalBool("line_search", options.line_search);
+  fields.Finish();
+  options.lambda_name = "omega";
+  try {
+    options.Validate();
+  } catch (const std::invalid_argument& error) {
+    throw InputError(std::string("continuation.") + error.what());
+  }
+  return options;
+}
+
+}  // namespace
+
+Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
+  InputFields fields(source, "case");
+  Case result;
+  result.source = source;
+  fields.OptionalString("title", "");
+  result.model = BuildModel(fields.RequiredObject("model"), base_dir);
+  const LinearModel& model = result.model.model;
+
+  result.harmonics = ReadHarmonics(fields.RequiredObject("harmonics"));
+  for (const ForcingTerm& term : result.model.forcing) {
+    const auto& list = result.harmonics.harmonics();
+    if (std::find(list.begin(), list.end(), term.harmonic) == list.end()) {
+      throw InputError("model.forcing: harmonic " + std::to_string(term.harmonic) +
+                       " is not in the harmonic set");
+    }
+  }
+
+  if (fields.Has("nonlinearities")) {
+    const nlohmann::json& list = fields.RequiredValue("nonlinearities");
+    if (!list.is_array()) fields.Fail("nonlinearities", "expected a list");
+    for (size_t i = 0; i < list.size(); ++i) {
+      result.laws.push_back(
+          MakeNonlinearity(list[i], "nonlinearities[" + std::to_string(i) + "]", model));
+    }
+  }
+
+  result.continuation = ReadContinuation(fields.RequiredObject("continuation"));
+
+  InputFields output(fields.RequiredObject("output"), "output");
+  const nlohmann::json& dofs = output.RequiredValue("dofs");
+  if (!dofs.is_array() || dofs.empty()) output.Fail("dofs", "expected a non-empty list of DOFs");
+  for (size_t i = 0; i < dofs.size(); ++i) {
+    result.output_dofs.push_back(
+        ResolveDof(dofs[i], model, "output.dofs[" + std::to_string(i) + "]"));
+    result.output_names.push_back(dofs[i].is_string() ? dofs[i].get<std::string>()
+                                                      : std::to_string(dofs[i].get<int>()));
+  }
+  output.Finish();
+  fields.Finish();
+  return result;
+}
+
+Case LoadCase(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open case file");
+  nlohmann::json source;
+  try {
+    source = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw InputError(path + ": not valid JSON (" + error.what() + ")");
+  }
+  const std::string base_dir = std::filesystem::absolute(path).parent_path().string();
+  try {
+    Case result = ParseCase(source, base_dir);
+    result.path = path;
+    return result;
+  } catch (const InputError& error) {
+    throw InputError(path + ": " + error.what());
+  }
+}
+
+}  // namespace nfrc

@@ -1,0 +1,147 @@
+#include "tools/harmonic_system.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/input_fields.h"
+
+namespace nfrc {
+namespace {
+
+std::vector<int> RetainedDofs(const std::vector<std::unique_ptr<Nonlinearity>>& laws,
+                              const std::vector<int>& output_dofs,
+                              const std::vector<ForcingTerm>& forcing) {
+  std::vector<int> retained;
+  auto add = [&](int dof) {
+    if (std::find(retained.begin(), retained.end(), dof) == retained.end()) {
+      retained.push_back(dof);
+    }
+  };
+  for (const auto& law : laws) {
+    for (int dof : law->Dofs()) add(dof);
+  }
+  for (int dof : output_dofs) add(dof);
+  if (retained.empty()) {
+    for (const ForcingTerm& term : forcing) add(term.dof);
+  }
+  if (retained.empty()) add(0);
+  return retained;
+}
+
+}  // namespace
+
+HarmonicSystem::HarmonicSystem(ModelDefinition model, HarmonicSet set,
+                               std::vector<std::unique_ptr<Nonlinearity>> laws,
+                               std::vector<int> output_dofs, Condensation::Method method)
+    : model_(model.model),
+      fourier_(set),
+      laws_(std::move(laws)),
+      retained_(RetainedDofs(laws_, output_dofs, model.forcing)),
+      condensation_(std::move(model.model), retained_, set, std::move(model.forcing), method),
+      cached_omega_(std::numeric_limits<double>::quiet_NaN()) {
+  const int nc = set.NumCoefficients();
+  num_displacement_unknowns_ = static_cast<int>(retained_.size()) * nc;
+  int offset = num_displacement_unknowns_;
+  for (const auto& law : laws_) {
+    NonlinearityContext ctx;
+    ctx.fourier = &fourier_;
+    ctx.condensation = &condensation_;
+    for (int dof : law->Dofs()) {
+      ctx.local_dofs.push_back(static_cast<int>(
+          std::find(retained_.begin(), retained_.end(), dof) - retained_.begin()));
+    }
+    ctx.own_offset = offset;
+    offset += law->NumOwnUnknowns(set);
+    contexts_.push_back(ctx);
+  }
+  num_unknowns_ = offset;
+}
+
+void HarmonicSystem::MoveTo(double omega) {
+  if (omega == cached_omega_) return;
+  condensation_.Update(omega);
+  z_ = condensation_.RealOperator();
+  dz_ = condensation_.RealOperatorDerivative();
+  f_ = condensation_.RealForcing();
+  df_ = condensation_.RealForcingDerivative();
+  cached_omega_ = omega;
+}
+
+bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
+                              Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) {
+  try {
+    MoveTo(omega);
+    const int nx = num_displacement_unknowns_;
+    const auto x = y.head(nx);
+    residual->setZero(num_unknowns_);
+    residual->head(nx) = z_ * x - f_;
+    if (jacobian_y != nullptr) {
+      jacobian_y->setZero(num_unknowns_, num_unknowns_);
+      jacobian_y->topLeftCorner(nx, nx) = z_;
+    }
+    if (jacobian_omega != nullptr) {
+      jacobian_omega->setZero(num_unknowns_);
+      jacobian_omega->head(nx) = dz_ * x - df_;
+    }
+    for (size_t i = 0; i < laws_.size(); ++i) {
+      laws_[i]->Evaluate(contexts_[i], y, omega, *residual, jacobian_y, jacobian_omega);
+    }
+    if (!residual->allFinite()) {
+      last_error_ = "residual is not finite at omega = " + std::to_string(omega);
+      return false;
+    }
+    return true;
+  } catch (const std::exception& error) {
+    last_error_ = error.what();
+    return false;
+  }
+}
+
+std::vector<int> HarmonicSystem::ScaleGroups() const {
+  std::vector<int> groups(num_unknowns_, 0);
+  for (size_t i = 0; i < laws_.size(); ++i) {
+    const int count = laws_[i]->NumOwnUnknowns(harmonic_set());
+    std::fill_n(groups.begin() + contexts_[i].own_offset, count, static_cast<int>(i) + 1);
+  }
+  return groups;
+}
+
+Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
+  try {
+    MoveTo(omega);
+  } catch (const std::exception& error) {
+    throw InputError(std::string("model: the linear part cannot be condensed at omega_start: ") +
+                     error.what());
+  }
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(z_);
+  if (!lu.isInvertible()) {
+    throw InputError("model: the linear dynamic stiffness is singular at omega_start = " +
+                     std::to_string(omega) +
+                     " (a DOF without stiffness or mass, or a rigid-body mode with harmonic 0?)");
+  }
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(num_unknowns_);
+  y.head(num_displacement_unknowns_) = lu.solve(f_);
+  for (size_t i = 0; i < laws_.size(); ++i) {
+    const int count = laws_[i]->NumOwnUnknowns(harmonic_set());
+    if (count > 0) {
+      laws_[i]->InitialOwnUnknowns(contexts_[i], y, omega,
+                                   y.segment(contexts_[i].own_offset, count));
+    }
+  }
+  return y;
+}
+
+Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double omega,
+                                                int dof) {
+  const int nc = harmonic_set().NumCoefficients();
+  const auto found = std::find(retained_.begin(), retained_.end(), dof);
+  if (found != retained_.end()) {
+    return y.segment(static_cast<int>(found - retained_.begin()) * nc, nc);
+  }
+  MoveTo(omega);
+  return condensation_.Recover(y.head(num_displacement_unknowns_)).row(dof).transpose();
+}
+
+}  // namespace nfrc

@@ -1,0 +1,69 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "continuation/problem.h"
+#include "core/condensation.h"
+#include "core/fourier_transform.h"
+#include "models/model_builder.h"
+#include "nonlinearities/nonlinearity.h"
+
+namespace nfrc {
+
+// The harmonic-balance equations R(y, ω) = Z_red(ω) x − F_red(ω) + Σ f_law(y, ω) of a
+// linear model condensed onto the DOFs its laws (and the outputs) act on, plus the laws'
+// own equations: the problem the continuation engine follows in ω.
+class HarmonicSystem : public ContinuationProblem {
+ public:
+  // Retains the laws' DOFs and `output_dofs` (or the forcing DOFs if both are empty).
+  HarmonicSystem(ModelDefinition model, HarmonicSet set,
+                 std::vector<std::unique_ptr<Nonlinearity>> laws, std::vector<int> output_dofs,
+                 Condensation::Method method = Condensation::Method::kAuto);
+
+  int NumUnknowns() const override { return num_unknowns_; }
+  bool Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) override;
+  // Group 0: displacement coefficients; group i + 1: own unknowns of law i.
+  std::vector<int> ScaleGroups() const override;
+
+  // The linear response x = Z_red⁻¹ F_red at ω with the laws' own starting values.
+  // Throws InputError if the linear dynamic stiffness is singular there.
+  Eigen::VectorXd InitialGuess(double omega);
+
+  // Coefficients of model DOF `dof` (HarmonicSet layout) in solution y at ω; DOFs that
+  // were condensed out are recovered.
+  Eigen::VectorXd DofCoefficients(const Eigen::VectorXd& y, double omega, int dof);
+
+  const FourierTransform& fourier() const { return fourier_; }
+  const HarmonicSet& harmonic_set() const { return fourier_.harmonic_set(); }
+  const LinearModel& model() const { return model_; }
+  int num_displacement_unknowns() const { return num_displacement_unknowns_; }
+  const std::vector<std::unique_ptr<Nonlinearity>>& laws() const { return laws_; }
+  const NonlinearityContext& context(int law) const { return contexts_[law]; }
+  // Why the last Evaluate returned false.
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  void MoveTo(double omega);
+
+  LinearModel model_;
+  FourierTransform fourier_;
+  std::vector<std::unique_ptr<Nonlinearity>> laws_;
+  std::vector<int> retained_;
+  Condensation condensation_;
+  std::vector<NonlinearityContext> contexts_;
+  int num_displacement_unknowns_ = 0;
+  int num_unknowns_ = 0;
+  // Real condensed operator and forcing (and ω-derivatives) cached for cached_omega_.
+  double cached_omega_;
+  Eigen::MatrixXd z_;
+  Eigen::MatrixXd dz_;
+  Eigen::VectorXd f_;
+  Eigen::VectorXd df_;
+  std::string last_error_;
+};
+
+}  // namespace nfrc

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs the Debian packages nfrc needs; a no-op (under a second) when all are present.
+set -euo pipefail
+packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libsundials-dev
+          nlohmann-json3-dev doctest-dev python3 python3-matplotlib)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

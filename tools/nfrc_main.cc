@@ -1,0 +1,110 @@
+// The nfrc command line program: `nfrc run CASE.json --out DIR` and `nfrc plot DIR`.
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "core/input_fields.h"
+#include "tools/run_case.h"
+#include "tools/version.h"
+
+namespace {
+
+// Exit codes: documented in the README.
+constexpr int kExitOk = 0;
+constexpr int kExitInputError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitRunIncomplete = 3;
+constexpr int kExitIoError = 4;
+
+std::atomic<bool> g_stop{false};
+
+void OnSignal(int) { g_stop.store(true); }
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  nfrc run CASE.json --out DIR   trace the frequency response of a case\n"
+    "  nfrc plot DIR                  draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
+    "  nfrc --version\n";
+
+int Run(const std::vector<std::string>& args) {
+  std::string case_path;
+  std::string out_dir;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--out" && i + 1 < args.size()) {
+      out_dir = args[++i];
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      std::cerr << "nfrc run: unknown option " << args[i] << "\n" << kUsage;
+      return kExitUsage;
+    } else if (case_path.empty()) {
+      case_path = args[i];
+    } else {
+      std::cerr << "nfrc run: more than one case file given\n" << kUsage;
+      return kExitUsage;
+    }
+  }
+  if (case_path.empty() || out_dir.empty()) {
+    std::cerr << "nfrc run: needs a case file and --out DIR\n" << kUsage;
+    return kExitUsage;
+  }
+  nfrc::Case the_case = nfrc::LoadCase(case_path);
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const nfrc::Branch branch = nfrc::RunCase(the_case, out_dir, &std::cerr, &g_stop);
+  const auto& summary = branch.summary;
+  std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
+            << "nfrc: " << summary.num_points << " points, " << summary.num_folds
+            << " folds, wrote " << out_dir << "/branch.json and branch.csv\n";
+  const bool complete = summary.success() ||
+                        summary.reason == nfrc::TerminationReason::kMaxPoints;
+  return complete ? kExitOk : kExitRunIncomplete;
+}
+
+int Plot(const std::vector<std::string>& args) {
+  if (args.empty()) {
+    std::cerr << "nfrc plot: needs an output directory\n" << kUsage;
+    return kExitUsage;
+  }
+  const std::string script = std::string(NFRC_TOOLS_DIR) + "/plot_frc.py";
+  // Debian's python3-matplotlib lives with the system interpreter.
+  const std::string python =
+      std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  std::string command = python + " '" + script + "'";
+  for (const std::string& arg : args) command += " '" + arg + "'";
+  const int status = std::system(command.c_str());
+  return status == 0 ? kExitOk : kExitIoError;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::cout << kUsage;
+    return args.empty() ? kExitUsage : kExitOk;
+  }
+  if (args[0] == "--version") {
+    std::cout << "nfrc " << nfrc::kNfrcVersion << "\n";
+    return kExitOk;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  try {
+    if (command == "run") return Run(args);
+    if (command == "plot") return Plot(args);
+    std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
+    return kExitUsage;
+  } catch (const nfrc::InputError& error) {
+    std::cerr << "nfrc: error: " << error.what() << "\n";
+    return kExitInputError;
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "nfrc: error: " << error.what() << "\n";
+    return kExitInputError;
+  } catch (const std::exception& error) {
+    std::cerr << "nfrc: error: " << error.what() << "\n";
+    return kExitIoError;
+  }
+}

@@ -1,0 +1,86 @@
+#!/usr/bin/python3
+"""Draws frequency response curves from nfrc output directories (branch.json).
+
+usage: plot_frc.py DIR [DIR ...] [--measure max_abs|h1] [--logy] [--output PATH_WITHOUT_EXT]
+       [--labels A,B,...] [--title TEXT]
+
+One directory: writes DIR/frc.png and DIR/frc.svg. Several: overlays them and writes to
+--output (default: the first DIR's frc_overlay). Folds are marked with open circles.
+"""
+import argparse
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def load(directory):
+    path = os.path.join(directory, "branch.json")
+    try:
+        with open(path) as handle:
+            return json.load(handle)
+    except OSError as error:
+        sys.exit(f"nfrc plot: cannot read {path}: {error.strerror}")
+    except json.JSONDecodeError as error:
+        sys.exit(f"nfrc plot: {path} is not valid JSON: {error}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("dirs", nargs="+")
+    parser.add_argument("--measure", default="max_abs", choices=["max_abs", "h1"])
+    parser.add_argument("--logy", action="store_true")
+    parser.add_argument("--output")
+    parser.add_argument("--labels")
+    parser.add_argument("--title")
+    args = parser.parse_args()
+
+    labels = args.labels.split(",") if args.labels else None
+    figure, axes = plt.subplots(figsize=(7, 4.5))
+    for i, directory in enumerate(args.dirs):
+        document = load(directory)
+        points = document.get("points", [])
+        if not points:
+            sys.exit(f"nfrc plot: {directory}/branch.json has no points")
+        names = document.get("output_dofs", [])
+        omega = [p["omega"] for p in points]
+        for d, name in enumerate(names):
+            values = [p[args.measure][d] for p in points]
+            label = labels[i] if labels and i < len(labels) else os.path.basename(
+                os.path.normpath(directory))
+            if len(names) > 1:
+                label += f" (DOF {name})"
+            (line,) = axes.plot(omega, values, "-", lw=1.4, label=label)
+            folds = document.get("folds", [])
+            if folds:
+                axes.plot([f["omega"] for f in folds], [f[args.measure][d] for f in folds],
+                          "o", mfc="none", color=line.get_color(), ms=7,
+                          label="folds" if i == 0 and d == 0 else None)
+    axes.set_xlabel(r"excitation frequency $\omega$")
+    axes.set_ylabel({"max_abs": r"max$_t\,|x(t)|$", "h1": "first-harmonic amplitude"}[
+        args.measure])
+    if args.logy:
+        axes.set_yscale("log")
+    summary = load(args.dirs[0]).get("summary", {})
+    title = args.title or load(args.dirs[0]).get("case", {}).get("title", "")
+    if title:
+        axes.set_title(title, fontsize=9)
+    if summary.get("termination") not in (None, "reached_lambda_bound", "closed_curve"):
+        axes.text(0.01, 0.01, f"run ended: {summary.get('termination')}",
+                  transform=axes.transAxes, fontsize=8, color="red")
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    base = args.output or (os.path.join(args.dirs[0], "frc") if len(args.dirs) == 1
+                           else os.path.join(args.dirs[0], "frc_overlay"))
+    figure.savefig(base + ".png", dpi=150)
+    figure.savefig(base + ".svg")
+    print(f"nfrc plot: wrote {base}.png and {base}.svg")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,34 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "core/fourier_transform.h"
+#include "tools/harmonic_system.h"
+
+namespace nfrc {
+
+// Response measures of one HBM solution, per output DOF.
+struct PointMeasures {
+  std::vector<double> max_abs;  // max_t |x(t)| over the period (finely resampled)
+  std::vector<double> h1;       // first-harmonic amplitude √(a_1² + b_1²)
+  std::vector<std::vector<double>> amplitudes;  // √(a_k² + b_k²) per harmonic of the set
+};
+
+// Computes PointMeasures; max |x| is taken on kOversampling × (2H + 1) samples (at least
+// kMinSamples) so that the peak between the solver's samples is not missed.
+class PointAnalyzer {
+ public:
+  static constexpr int kOversampling = 8;
+  static constexpr int kMinSamples = 512;
+
+  PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dofs);
+  PointMeasures Measure(const Eigen::VectorXd& y, double omega);
+
+ private:
+  HarmonicSystem& system_;
+  std::vector<int> output_dofs_;
+  FourierTransform fine_;
+};
+
+}  // namespace nfrc
