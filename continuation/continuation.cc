@@ -27,6 +27,12 @@ namespace {
 // far above what the min_step rule lets a healthy run use (≈ log(max/min)/log(1/decrease)).
 constexpr int kMaxAttemptsPerPoint = 50;
 
+// A turn above max_tangent_angle that a retry with at most kKinkStepRatio of the step still
+// shows at kKinkAngleRatio or more of its size is a kink of a nonsmooth branch (a smooth
+// turn would have shrunk in proportion to the step).
+constexpr double kKinkStepRatio = 0.6;
+constexpr double kKinkAngleRatio = 0.75;
+
 // Enough digits to locate a stall or a bound in a message, as in the progress lines.
 constexpr int kMessageDigits = 8;
 
@@ -204,9 +210,21 @@ class Continuer {
     }
     const double angle = std::acos(std::clamp(new_tangent.dot(tangent_scaled), -1.0, 1.0));
     if (angle > options_.max_tangent_angle) {
-      return Reject(std::move(record),
-                    "tangent turned by " + Number(angle) + " rad, above max_tangent_angle");
+      // On a smooth branch the turn shrinks with the step; on a nonsmooth one (a sample of a
+      // piecewise law switching branch) the tangent jumps by the same angle however short
+      // the step: such a kink is accepted once a halved step no longer reduces the turn.
+      const bool kink = angle_rejection_.has_value() && h <= kKinkStepRatio * angle_rejection_->step &&
+                        angle >= kKinkAngleRatio * angle_rejection_->angle;
+      if (!kink) {
+        angle_rejection_ = AngleRejection{h, angle};
+        return Reject(std::move(record),
+                      "tangent turned by " + Number(angle) + " rad, above max_tangent_angle");
+      }
+      record.note = "kink: tangent jumped by " + Number(angle) + " rad";
     }
+    angle_rejection_.reset();
+    // A kink's turn says nothing about the curvature ahead: it does not shrink the next step.
+    const double smooth_angle = angle > options_.max_tangent_angle ? 0.0 : angle;
     const bool fold_crossed = options_.detect_folds && new_tangent(n()) * tangent_scaled(n()) < 0;
     const double lambda = corrected.u(n());
     if (lambda <= lambda_min_ || lambda >= lambda_max_) {
@@ -237,7 +255,7 @@ class Continuer {
                                                 ") reached at " +
                                                 Describe(options_.lambda_name, u_(n())));
     }
-    return controller_.AfterSuccess(h, corrected.iterations, angle);
+    return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
 
   // The step left [λ_min, λ_max] at `u_outside`: solves at λ = bound from the chord's
@@ -328,6 +346,12 @@ class Continuer {
   Eigen::VectorXd u_;        // last accepted point (y, λ)
   Eigen::VectorXd tangent_;  // its tangent direction, unit in the current scaling
   std::optional<ClosureDetector> closure_;
+  // The last step rejected for its tangent turn, to tell a kink from a too-long step.
+  struct AngleRejection {
+    double step;
+    double angle;
+  };
+  std::optional<AngleRejection> angle_rejection_;
   bool finished_ = false;
   int newton_iterations_ = 0;
   std::string last_failure_;

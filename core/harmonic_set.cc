@@ -63,4 +63,29 @@ int HarmonicSet::SinIndex(int position) const {
   return harmonics_[position] == 0 ? cos_index : cos_index + 1;
 }
 
+Eigen::VectorXd ChangeHarmonicSet(const Eigen::VectorXd& coefficients, const HarmonicSet& from,
+                                  const HarmonicSet& to) {
+  const int nf = from.NumCoefficients();
+  const int nt = to.NumCoefficients();
+  if (coefficients.size() % nf != 0) {
+    throw std::invalid_argument("coefficients: size " + std::to_string(coefficients.size()) +
+                                " is not a multiple of " + std::to_string(nf));
+  }
+  const int blocks = static_cast<int>(coefficients.size()) / nf;
+  Eigen::VectorXd result = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(blocks) * nt);
+  for (int q = 0; q < to.num_harmonics(); ++q) {
+    const auto& list = from.harmonics();
+    const auto found = std::find(list.begin(), list.end(), to.harmonics()[q]);
+    if (found == list.end()) continue;
+    const int p = static_cast<int>(found - list.begin());
+    for (int b = 0; b < blocks; ++b) {
+      result(b * nt + to.CosIndex(q)) = coefficients(b * nf + from.CosIndex(p));
+      if (to.harmonics()[q] != 0) {
+        result(b * nt + to.SinIndex(q)) = coefficients(b * nf + from.SinIndex(p));
+      }
+    }
+  }
+  return result;
+}
+
 }  // namespace nfrc

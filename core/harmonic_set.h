@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Dense>
 #include <vector>
 
 namespace nfrc {
@@ -43,5 +44,11 @@ class HarmonicSet {
   std::vector<int> harmonics_;
   int num_coefficients_;
 };
+
+// Re-expresses stacked signals (consecutive blocks of from.NumCoefficients() entries) in the
+// layout of `to`: harmonics of both sets are copied, harmonics only in `to` are zero.
+// Throws std::invalid_argument if the size is not a multiple of the block size.
+Eigen::VectorXd ChangeHarmonicSet(const Eigen::VectorXd& coefficients, const HarmonicSet& from,
+                                  const HarmonicSet& to);
 
 }  // namespace nfrc

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ struct NonlinearityContext {
   int num_coefficients() const { return harmonic_set().NumCoefficients(); }
   // First index in y of the coefficients of the law's i-th DOF.
   int DofOffset(int i) const { return local_dofs[i] * num_coefficients(); }
+};
+
+// A time signal of a law at a solution, sampled on a FourierTransform's grid (for output).
+struct LawSignal {
+  std::string name;  // e.g. "force", "velocity"
+  Eigen::VectorXd samples;
 };
 
 // A nonlinear law of the harmonic-balance problem (the extension point, like Ceres's
@@ -54,6 +61,22 @@ class Nonlinearity {
   virtual void InitialOwnUnknowns(const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/,
                                   double /*omega*/, Eigen::Ref<Eigen::VectorXd> own) const {
     own.setZero();
+  }
+
+  // The law's own time signals at solution y, sampled by `fine` (same harmonics as
+  // ctx.harmonic_set(), any number of samples). Default: none.
+  virtual std::vector<LawSignal> Signals(const NonlinearityContext& /*ctx*/,
+                                         const Eigen::VectorXd& /*y*/, double /*omega*/,
+                                         const FourierTransform& /*fine*/) const {
+    return {};
+  }
+
+  // Scalar diagnostics of the solution for output (e.g. stick phases per period).
+  virtual std::map<std::string, double> Diagnostics(const NonlinearityContext& /*ctx*/,
+                                                    const Eigen::VectorXd& /*y*/,
+                                                    double /*omega*/,
+                                                    const FourierTransform& /*fine*/) const {
+    return {};
   }
 };
 

@@ -1,12 +1,14 @@
 #include "nonlinearities/registry.h"
 
 #include "core/input_fields.h"
+#include "nonlinearities/coulomb_friction.h"
 #include "nonlinearities/polynomial_spring.h"
 
 namespace nfrc {
 
 const std::map<std::string, NonlinearityFactory>& NonlinearityRegistry() {
   static const std::map<std::string, NonlinearityFactory> registry = {
+      {"coulomb_friction", &CoulombFriction::FromJson},
       {"cubic_spring", &PolynomialSpring::CubicFromJson},
       {"polynomial_spring", &PolynomialSpring::PolynomialFromJson},
   };

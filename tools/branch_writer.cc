@@ -2,8 +2,10 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <numbers>
 #include <stdexcept>
 
+#include "continuation/fixed_lambda.h"
 #include "tools/version.h"
 
 namespace nfrc {
@@ -59,7 +61,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
   if (error) throw std::runtime_error(dir_ + ": cannot create output directory: " + error.message());
   csv_.open(dir_ + "/branch.csv");
   if (!csv_) throw std::runtime_error(dir_ + "/branch.csv: cannot open for writing");
-  csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega";
+  csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega,energy";
   for (const std::string& name : case_.output_names) csv_ << ",max_abs_" << name;
   for (const std::string& name : case_.output_names) csv_ << ",h1_" << name;
   csv_ << "\n" << std::flush;
@@ -81,6 +83,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
       {"options", OptionsToJson(case_.continuation)},
       {"points", nlohmann::json::array()},
       {"folds", nlohmann::json::array()},
+      {"signals", nlohmann::json::array()},
       {"summary", {{"termination", "running"}, {"message", "run in progress"}}}};
   WriteJson();
 }
@@ -93,21 +96,93 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
                                  {"newton_iterations", point.newton_iterations},
                                  {"residual_norm", point.residual_norm},
                                  {"tangent_omega", point.tangent_lambda},
+                                 {"energy", m.energy},
                                  {"max_abs", m.max_abs},
                                  {"h1", m.h1},
-                                 {"amplitudes", m.amplitudes}});
+                                 {"amplitudes", m.amplitudes},
+                                 {"laws", LawDiagnostics(point.y, point.lambda)}});
   csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations
-       << ',' << point.residual_norm << ',' << point.tangent_lambda;
+       << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
   csv_ << '\n' << std::flush;
+
+  for (double omega : case_.signals_at) {
+    if (point.lambda == omega) {
+      WriteSignals(omega, point.y, index, true, "");
+    } else if (previous_ && (previous_->lambda - omega) * (point.lambda - omega) < 0.0) {
+      const double t = (omega - previous_->lambda) / (point.lambda - previous_->lambda);
+      const Eigen::VectorXd guess = (1.0 - t) * previous_->y + t * point.y;
+      const FixedLambdaSolution solved =
+          SolveAtFixedLambda(system_, guess, omega, point.y, case_.continuation);
+      WriteSignals(omega, solved.y, index - 1, solved.converged, solved.message);
+    }
+  }
+  previous_ = point;
   if (std::chrono::steady_clock::now() - last_json_write_ > kJsonInterval) WriteJson();
   return true;
+}
+
+nlohmann::json BranchWriter::LawDiagnostics(const Eigen::VectorXd& y, double omega) {
+  nlohmann::json laws = nlohmann::json::array();
+  for (size_t i = 0; i < system_.laws().size(); ++i) {
+    laws.push_back(system_.laws()[i]->Diagnostics(system_.context(static_cast<int>(i)), y, omega,
+                                                  analyzer_.fine()));
+  }
+  return laws;
+}
+
+void BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y, int after_point,
+                                bool converged, const std::string& note) {
+  const std::string name = "signals_" + std::to_string(num_signals_++) + ".csv";
+  const FourierTransform& fine = analyzer_.fine();
+  const int nt = fine.harmonic_set().num_samples();
+  std::vector<std::string> columns = {"theta", "t"};
+  std::vector<Eigen::VectorXd> data;
+  Eigen::VectorXd theta(nt);
+  for (int j = 0; j < nt; ++j) theta(j) = 2.0 * std::numbers::pi * j / nt;
+  data.push_back(theta);
+  data.push_back(theta / omega);
+  const Eigen::MatrixXd& d = system_.fourier().DerivativeMatrix();
+  for (size_t i = 0; i < case_.output_dofs.size(); ++i) {
+    const Eigen::VectorXd c = system_.DofCoefficients(y, omega, case_.output_dofs[i]);
+    columns.push_back("x_" + case_.output_names[i]);
+    data.push_back(fine.ToTime(c).col(0));
+    columns.push_back("v_" + case_.output_names[i]);
+    data.push_back(fine.ToTime(omega * (d * c)).col(0));
+  }
+  for (size_t i = 0; i < system_.laws().size(); ++i) {
+    const auto& law = system_.laws()[i];
+    for (LawSignal& signal : law->Signals(system_.context(static_cast<int>(i)), y, omega, fine)) {
+      columns.push_back("law" + std::to_string(i) + "_" + signal.name);
+      data.push_back(std::move(signal.samples));
+    }
+  }
+  std::ofstream out(dir_ + "/" + name);
+  if (!out) throw std::runtime_error(dir_ + "/" + name + ": cannot open for writing");
+  out << std::setprecision(12);
+  for (size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
+  out << "\n";
+  for (int j = 0; j < nt; ++j) {
+    for (size_t c = 0; c < data.size(); ++c) out << (c ? "," : "") << data[c](j);
+    out << "\n";
+  }
+  const PointMeasures m = analyzer_.Measure(y, omega);
+  document_["signals"].push_back({{"omega", omega},
+                                  {"file", name},
+                                  {"after_point", after_point},
+                                  {"converged", converged},
+                                  {"note", note},
+                                  {"energy", m.energy},
+                                  {"max_abs", m.max_abs},
+                                  {"h1", m.h1},
+                                  {"laws", LawDiagnostics(y, omega)}});
 }
 
 void BranchWriter::OnFold(const Fold& fold) {
   const PointMeasures m = analyzer_.Measure(fold.y, fold.lambda);
   document_["folds"].push_back({{"omega", fold.lambda},
+                                {"energy", m.energy},
                                 {"max_abs", m.max_abs},
                                 {"h1", m.h1},
                                 {"after_point", fold.after_point},

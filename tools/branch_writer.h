@@ -3,6 +3,7 @@
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "continuation/continuation.h"
@@ -23,6 +24,8 @@ class BranchWriter : public ContinuationObserver {
   BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system);
 
   bool OnPoint(const BranchPoint& point, int index) override;
+  // Also writes the time signals at every requested ω the segment from the previous point
+  // crosses (solved at exactly that ω) to DIR/signals_<n>.csv.
   void OnFold(const Fold& fold) override;
 
   // Writes the final branch.json with the summary.
@@ -32,6 +35,9 @@ class BranchWriter : public ContinuationObserver {
 
  private:
   void WriteJson();
+  void WriteSignals(double omega, const Eigen::VectorXd& y, int after_point, bool converged,
+                    const std::string& note);
+  nlohmann::json LawDiagnostics(const Eigen::VectorXd& y, double omega);
 
   std::string dir_;
   const Case& case_;
@@ -40,6 +46,8 @@ class BranchWriter : public ContinuationObserver {
   std::ofstream csv_;
   nlohmann::json document_;
   std::chrono::steady_clock::time_point last_json_write_;
+  std::optional<BranchPoint> previous_;
+  int num_signals_ = 0;
 };
 
 // nlohmann::json summary of a continuation run.

@@ -64,6 +64,7 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
   InputFields fields(source, "case");
   Case result;
   result.source = source;
+  result.base_dir = base_dir;
   fields.OptionalString("title", "");
   result.model = BuildModel(fields.RequiredObject("model"), base_dir);
   const LinearModel& model = result.model.model;
@@ -96,6 +97,10 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
         ResolveDof(dofs[i], model, "output.dofs[" + std::to_string(i) + "]"));
     result.output_names.push_back(dofs[i].is_string() ? dofs[i].get<std::string>()
                                                       : std::to_string(dofs[i].get<int>()));
+  }
+  result.signals_at = output.OptionalNumberList("signals_at");
+  for (double omega : result.signals_at) {
+    if (!(omega > 0.0)) output.Fail("signals_at", "frequencies must be positive");
   }
   output.Finish();
   fields.Finish();

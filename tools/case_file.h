@@ -15,6 +15,7 @@ namespace nfrc {
 // A parsed case file: everything `nfrc run` needs, validated.
 struct Case {
   std::string path;       // file it came from (empty if parsed from memory)
+  std::string base_dir;   // directory relative matrix files resolve against
   nlohmann::json source;  // the case as written
   ModelDefinition model;
   HarmonicSet harmonics{1, false};
@@ -22,6 +23,7 @@ struct Case {
   ContinuationOptions continuation;
   std::vector<int> output_dofs;           // model DOF indices
   std::vector<std::string> output_names;  // as the case names them (index or name)
+  std::vector<double> signals_at;         // ω at which time signals are written
 };
 
 // Reads and validates a case file. Throws InputError naming the file or field.

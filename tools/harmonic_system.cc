@@ -144,4 +144,9 @@ Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double
   return condensation_.Recover(y.head(num_displacement_unknowns_)).row(dof).transpose();
 }
 
+Eigen::MatrixXd HarmonicSystem::AllDofCoefficients(const Eigen::VectorXd& y, double omega) {
+  MoveTo(omega);
+  return condensation_.Recover(y.head(num_displacement_unknowns_));
+}
+
 }  // namespace nfrc

@@ -37,6 +37,9 @@ class HarmonicSystem : public ContinuationProblem {
   // were condensed out are recovered.
   Eigen::VectorXd DofCoefficients(const Eigen::VectorXd& y, double omega, int dof);
 
+  // Coefficients of every model DOF (num_dofs × NumCoefficients, row = DOF) in solution y.
+  Eigen::MatrixXd AllDofCoefficients(const Eigen::VectorXd& y, double omega);
+
   const FourierTransform& fourier() const { return fourier_; }
   const HarmonicSet& harmonic_set() const { return fourier_.harmonic_set(); }
   const LinearModel& model() const { return model_; }

@@ -32,7 +32,8 @@ def load(directory):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dirs", nargs="+")
-    parser.add_argument("--measure", default="max_abs", choices=["max_abs", "h1"])
+    parser.add_argument("--measure", default="max_abs", choices=["max_abs", "h1", "energy"])
+    parser.add_argument("--xlim", help="omega range to show, as MIN,MAX")
     parser.add_argument("--logy", action="store_true")
     parser.add_argument("--output")
     parser.add_argument("--labels")
@@ -47,22 +48,30 @@ def main():
         if not points:
             sys.exit(f"nfrc plot: {directory}/branch.json has no points")
         names = document.get("output_dofs", [])
+        if args.measure == "energy":
+            names = names[:1]
         omega = [p["omega"] for p in points]
+
+        def value(entry, d):
+            return entry[args.measure] if args.measure == "energy" else entry[args.measure][d]
+
         for d, name in enumerate(names):
-            values = [p[args.measure][d] for p in points]
+            values = [value(p, d) for p in points]
             label = labels[i] if labels and i < len(labels) else os.path.basename(
                 os.path.normpath(directory))
-            if len(names) > 1:
+            if len(names) > 1 and args.measure != "energy":
                 label += f" (DOF {name})"
             (line,) = axes.plot(omega, values, "-", lw=1.4, label=label)
             folds = document.get("folds", [])
             if folds:
-                axes.plot([f["omega"] for f in folds], [f[args.measure][d] for f in folds],
+                axes.plot([f["omega"] for f in folds], [value(f, d) for f in folds],
                           "o", mfc="none", color=line.get_color(), ms=7,
                           label="folds" if i == 0 and d == 0 else None)
     axes.set_xlabel(r"excitation frequency $\omega$")
-    axes.set_ylabel({"max_abs": r"max$_t\,|x(t)|$", "h1": "first-harmonic amplitude"}[
-        args.measure])
+    axes.set_ylabel({"max_abs": r"max$_t\,|x(t)|$", "h1": "first-harmonic amplitude",
+                     "energy": "mean total energy over a period"}[args.measure])
+    if args.xlim:
+        axes.set_xlim(*[float(v) for v in args.xlim.split(",")])
     if args.logy:
         axes.set_yscale("log")
     summary = load(args.dirs[0]).get("summary", {})

@@ -14,6 +14,15 @@ HarmonicSet FineSet(const HarmonicSet& set) {
 
 }  // namespace
 
+double MeanQuadraticForm(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& x,
+                         const HarmonicSet& set) {
+  // mean(x_i x_j) = a0_i a0_j + ½ Σ_k (a_ki a_kj + b_ki b_kj).
+  Eigen::VectorXd weights = Eigen::VectorXd::Constant(set.NumCoefficients(), 0.5);
+  if (set.has_constant()) weights(set.CosIndex(0)) = 1.0;
+  const Eigen::MatrixXd ax = a * x;
+  return 0.5 * (x.cwiseProduct(ax) * weights).sum();
+}
+
 PointAnalyzer::PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dofs)
     : system_(system),
       output_dofs_(std::move(output_dofs)),
@@ -22,6 +31,10 @@ PointAnalyzer::PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dof
 PointMeasures PointAnalyzer::Measure(const Eigen::VectorXd& y, double omega) {
   const HarmonicSet& set = system_.harmonic_set();
   PointMeasures measures;
+  const Eigen::MatrixXd x = system_.AllDofCoefficients(y, omega);
+  const Eigen::MatrixXd v = omega * x * system_.fourier().DerivativeMatrix().transpose();
+  measures.energy = MeanQuadraticForm(system_.model().mass, v, set) +
+                    MeanQuadraticForm(system_.model().stiffness, x, set);
   for (int dof : output_dofs_) {
     const Eigen::VectorXd c = system_.DofCoefficients(y, omega, dof);
     measures.max_abs.push_back(fine_.ToTime(c).cwiseAbs().maxCoeff());

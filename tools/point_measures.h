@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <vector>
 
 #include "core/fourier_transform.h"
@@ -13,7 +14,14 @@ struct PointMeasures {
   std::vector<double> max_abs;  // max_t |x(t)| over the period (finely resampled)
   std::vector<double> h1;       // first-harmonic amplitude √(a_1² + b_1²)
   std::vector<std::vector<double>> amplitudes;  // √(a_k² + b_k²) per harmonic of the set
+  // Period mean of the total energy ½ẋᵀMẋ + ½xᵀKx over all DOFs, exact from the
+  // coefficients by Parseval (no sampling).
+  double energy = 0.0;
 };
+
+// ½·mean over a period of xᵀ A x for coefficient rows X (DOF × coefficient) of `set`.
+double MeanQuadraticForm(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& x,
+                         const HarmonicSet& set);
 
 // Computes PointMeasures; max |x| is taken on kOversampling × (2H + 1) samples (at least
 // kMinSamples) so that the peak between the solver's samples is not missed.
@@ -24,6 +32,8 @@ class PointAnalyzer {
 
   PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dofs);
   PointMeasures Measure(const Eigen::VectorXd& y, double omega);
+  // The fine sampling used for max |x|, for writing time signals.
+  const FourierTransform& fine() const { return fine_; }
 
  private:
   HarmonicSystem& system_;

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+
+#include "continuation/options.h"
+#include "continuation/problem.h"
+
+namespace nfrc {
+
+// Outcome of a Newton solve of R(y, λ) = 0 at one fixed λ.
+struct FixedLambdaSolution {
+  bool converged = false;
+  Eigen::VectorXd y;
+  int iterations = 0;
+  double residual_norm = 0.0;
+  std::string message;  // why it failed, empty on success
+};
+
+// Newton (with the engine's line search and tolerances) at fixed λ from y_guess, e.g. to
+// resolve a branch at requested parameter values between two of its points. Updates are
+// measured against `typical_y` (per unknown: a branch point near by), the residual against
+// ‖R(0, options.lambda_start)‖ as in Continue.
+FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem,
+                                       const Eigen::VectorXd& y_guess, double lambda,
+                                       const Eigen::VectorXd& typical_y,
+                                       const ContinuationOptions& options);
+
+}  // namespace nfrc

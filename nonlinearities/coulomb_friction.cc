@@ -1,0 +1,175 @@
+#include "nonlinearities/coulomb_friction.h"
+
+#include <stdexcept>
+
+#include "core/input_fields.h"
+#include "nonlinearities/phase_count.h"
+
+namespace nfrc {
+
+CoulombFriction::CoulombFriction(int dof, int other, FrictionParameters parameters)
+    : dof_(dof), other_(other), parameters_(parameters) {
+  if (parameters_.limit < 0.0) throw std::invalid_argument("mu*normal_load: must be >= 0");
+  if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
+  switch (parameters_.equality) {
+    case FrictionEquality::kMinMax:
+    case FrictionEquality::kHueber:
+      if (!(parameters_.rho > 0.0)) throw std::invalid_argument("rho: must be positive");
+      break;
+    case FrictionEquality::kTanh:
+    case FrictionEquality::kArctan:
+      if (!(parameters_.alpha > 0.0)) throw std::invalid_argument("alpha: must be positive");
+      break;
+    case FrictionEquality::kPiecewiseLinear:
+      if (!(parameters_.delta > 0.0)) throw std::invalid_argument("delta: must be positive");
+      break;
+    case FrictionEquality::kSign:
+      break;
+  }
+}
+
+std::unique_ptr<Nonlinearity> CoulombFriction::FromJson(const nlohmann::json& spec,
+                                                        const std::string& path,
+                                                        const LinearModel& model) {
+  InputFields fields(spec, path);
+  fields.RequiredString("type");
+  const int dof = fields.RequiredDof("dof", model);
+  const int other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
+  if (dof == other) fields.Fail("other", "must differ from dof");
+  const double mu = fields.RequiredNumber("mu");
+  const double normal_load = fields.RequiredNumber("normal_load");
+  if (mu < 0.0) fields.Fail("mu", "must be non-negative");
+  if (normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+  FrictionParameters parameters;
+  parameters.limit = mu * normal_load;
+  const std::string law = fields.OptionalString("law", "min_max");
+  if (!ParseFrictionEquality(law, &parameters.equality)) {
+    fields.Fail("law", "unknown friction law \"" + law +
+                           "\" (known: min_max, hueber, tanh, arctan, piecewise_linear, sign)");
+  }
+  const bool exact = IsExact(parameters.equality);
+  const bool regularised = parameters.equality == FrictionEquality::kTanh ||
+                           parameters.equality == FrictionEquality::kArctan;
+  const bool linear = parameters.equality == FrictionEquality::kPiecewiseLinear;
+  auto positive = [&](const std::string& key, bool wanted, double fallback) {
+    if (!wanted) {
+      if (fields.Has(key)) fields.Fail(key, "does not apply to law \"" + law + "\"");
+      return fallback;
+    }
+    if (fallback == 0.0 && !fields.Has(key)) fields.Fail(key, "required by law \"" + law + "\"");
+    const double value = fields.OptionalNumber(key, fallback);
+    if (!(value > 0.0)) fields.Fail(key, "must be positive");
+    return value;
+  };
+  parameters.rho = positive("rho", exact, 1.0);
+  parameters.alpha = positive("alpha", regularised, 0.0);
+  parameters.delta = positive("delta", linear, 0.0);
+  fields.Finish();
+  return std::make_unique<CoulombFriction>(dof, other, parameters);
+}
+
+std::vector<int> CoulombFriction::Dofs() const {
+  if (other_ < 0) return {dof_};
+  return {dof_, other_};
+}
+
+Eigen::VectorXd CoulombFriction::VelocityCoefficients(const NonlinearityContext& ctx,
+                                                      const Eigen::VectorXd& y,
+                                                      double omega) const {
+  const int nc = ctx.num_coefficients();
+  Eigen::VectorXd relative = y.segment(ctx.DofOffset(0), nc);
+  if (other_ >= 0) relative -= y.segment(ctx.DofOffset(1), nc);
+  return omega * (ctx.fourier->DerivativeMatrix() * relative);
+}
+
+void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                               double omega, Eigen::Ref<Eigen::VectorXd> residual,
+                               Eigen::MatrixXd* jacobian, Eigen::VectorXd* d_omega) const {
+  const FourierTransform& fourier = *ctx.fourier;
+  const int nc = ctx.num_coefficients();
+  const int row_dof = ctx.DofOffset(0);
+  const int row_other = other_ >= 0 ? ctx.DofOffset(1) : -1;
+  const int row_own = ctx.own_offset;
+  const auto force = y.segment(row_own, nc);
+
+  // The friction force enters the equations of motion linearly.
+  residual.segment(row_dof, nc) -= force;
+  if (row_other >= 0) residual.segment(row_other, nc) += force;
+
+  const Eigen::VectorXd velocity_coefficients = VelocityCoefficients(ctx, y, omega);
+  const Eigen::MatrixXd v = fourier.ToTime(velocity_coefficients);
+  const Eigen::MatrixXd r = fourier.ToTime(force);
+  const int nt = static_cast<int>(v.rows());
+  Eigen::MatrixXd psi(nt, 1);
+  Eigen::VectorXd psi_v(nt), psi_r(nt);
+  for (int j = 0; j < nt; ++j) {
+    const FrictionResidual value = EvaluateFrictionEquality(parameters_, v(j, 0), r(j, 0));
+    psi(j, 0) = value.value;
+    psi_v(j) = value.d_velocity;
+    psi_r(j) = value.d_force;
+  }
+  residual.segment(row_own, nc) += fourier.ToCoefficients(psi);
+
+  if (jacobian != nullptr) {
+    jacobian->block(row_dof, row_own, nc, nc) -= Eigen::MatrixXd::Identity(nc, nc);
+    if (row_other >= 0) {
+      jacobian->block(row_other, row_own, nc, nc) += Eigen::MatrixXd::Identity(nc, nc);
+    }
+    const Eigen::MatrixXd& e = fourier.SampleMatrix();
+    const Eigen::MatrixXd& p = fourier.ProjectionMatrix();
+    // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E.
+    const Eigen::MatrixXd d_velocity =
+        (p * psi_v.asDiagonal() * e) * (omega * fourier.DerivativeMatrix());
+    jacobian->block(row_own, row_dof, nc, nc) += d_velocity;
+    if (row_other >= 0) jacobian->block(row_own, row_other, nc, nc) -= d_velocity;
+    jacobian->block(row_own, row_own, nc, nc) += p * psi_r.asDiagonal() * e;
+  }
+  if (d_omega != nullptr) {
+    // v = ωD x: ∂v/∂ω = D x = v / ω.
+    Eigen::MatrixXd dv(nt, 1);
+    dv.col(0) = psi_v.cwiseProduct(v.col(0)) / omega;
+    d_omega->segment(row_own, nc) += fourier.ToCoefficients(dv);
+  }
+}
+
+void CoulombFriction::InitialOwnUnknowns(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                         double omega, Eigen::Ref<Eigen::VectorXd> own) const {
+  const Eigen::MatrixXd v = ctx.fourier->ToTime(VelocityCoefficients(ctx, y, omega));
+  Eigen::MatrixXd r(v.rows(), 1);
+  for (Eigen::Index j = 0; j < v.rows(); ++j) {
+    r(j, 0) = v(j, 0) > 0.0 ? -parameters_.limit : (v(j, 0) < 0.0 ? parameters_.limit : 0.0);
+  }
+  own = ctx.fourier->ToCoefficients(r);
+}
+
+std::vector<LawSignal> CoulombFriction::Signals(const NonlinearityContext& ctx,
+                                                const Eigen::VectorXd& y, double omega,
+                                                const FourierTransform& fine) const {
+  const int nc = ctx.num_coefficients();
+  return {{"force", fine.ToTime(y.segment(ctx.own_offset, nc)).col(0)},
+          {"velocity", fine.ToTime(VelocityCoefficients(ctx, y, omega)).col(0)}};
+}
+
+std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityContext& ctx,
+                                                           const Eigen::VectorXd& y,
+                                                           double omega,
+                                                           const FourierTransform& fine) const {
+  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
+  const Eigen::VectorXd& r = signals[0].samples;
+  const Eigen::VectorXd& v = signals[1].samples;
+  std::map<std::string, double> result;
+  if (parameters_.limit > 0.0) result["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
+  if (HasStickBranch(parameters_.equality)) {
+    std::vector<bool> stuck(static_cast<size_t>(r.size()));
+    for (Eigen::Index j = 0; j < r.size(); ++j) {
+      stuck[static_cast<size_t>(j)] = OnStickBranch(parameters_, v(j), r(j));
+    }
+    const PhaseCount phases =
+        CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
+    result["stick_phases"] = phases.count;
+    result["stick_fraction"] = phases.fraction;
+  }
+  return result;
+}
+
+}  // namespace nfrc

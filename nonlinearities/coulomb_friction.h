@@ -1,0 +1,66 @@
+#pragma once
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/linear_model.h"
+#include "nonlinearities/friction_equality.h"
+#include "nonlinearities/nonlinearity.h"
+
+namespace nfrc {
+
+// Coulomb friction under a constant normal load, on a DOF against ground or between two
+// DOFs (sliding velocity v = ẋ_dof − ẋ_other), by the equality-based weighted-residual
+// formulation (Legrand & Pierre 2024): the friction force r(t) is expanded on the harmonic
+// set and its coefficients are this law's own unknowns; its equations are the Galerkin
+// projection of Ψ(v(t), r(t)) sampled on N_t points. r acts on `dof` (and −r on `other`),
+// so the displacement rows get −r̃ (resp. +r̃). Jacobians are exact on the active branch of
+// every sample (semismooth).
+class CoulombFriction : public Nonlinearity {
+ public:
+  // other < 0: against ground. Throws std::invalid_argument for μN < 0 or a parameter of the
+  // chosen equality that is not positive.
+  CoulombFriction(int dof, int other, FrictionParameters parameters);
+
+  // Case-file "coulomb_friction": {dof, [other], mu, normal_load, [law], [rho], [alpha],
+  // [delta]}.
+  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec,
+                                                const std::string& path,
+                                                const LinearModel& model);
+
+  std::string type() const override { return "coulomb_friction"; }
+  std::vector<int> Dofs() const override;
+  int NumOwnUnknowns(const HarmonicSet& set) const override { return set.NumCoefficients(); }
+  void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                Eigen::VectorXd* d_omega) const override;
+  // Starts from the sliding force r = −μN sign(v) of the given displacements.
+  void InitialOwnUnknowns(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                          Eigen::Ref<Eigen::VectorXd> own) const override;
+
+  // "force" r(t) and "velocity" v(t) on the fine grid.
+  std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                 double omega, const FourierTransform& fine) const override;
+  // "stick_phases" and "stick_fraction" (laws with a stick branch; phases shorter than the
+  // period of the highest harmonic are ripple and not counted, see CountPhases), and
+  // "max_force_ratio" = max|r(t)| / μN.
+  std::map<std::string, double> Diagnostics(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega,
+                                            const FourierTransform& fine) const override;
+
+  const FrictionParameters& parameters() const { return parameters_; }
+  int dof() const { return dof_; }
+  int other() const { return other_; }
+
+  // Sliding-velocity coefficients v = ω D (x_dof − x_other) of a solution y.
+  Eigen::VectorXd VelocityCoefficients(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                       double omega) const;
+
+ private:
+  int dof_;
+  int other_;
+  FrictionParameters parameters_;
+};
+
+}  // namespace nfrc

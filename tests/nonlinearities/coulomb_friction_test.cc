@@ -1,0 +1,142 @@
+#include "nonlinearities/coulomb_friction.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/input_fields.h"
+#include "nonlinearities/jacobian_check.h"
+#include "nonlinearities/registry.h"
+
+namespace nfrc {
+namespace {
+
+// Away from switching instants every law is smooth on each sample, so central differences
+// with relative step 1e-7 are accurate to ~1e-7 (round-off 1e-16/1e-7 over O(1) entries).
+constexpr double kFdTolerance = 1e-6;
+constexpr double kFdStep = 1e-7;
+// A sample whose switching functions are this far from zero cannot change branch under a
+// perturbation of size kFdStep·|y| (the basis functions are bounded by 1, ω·k by ~10).
+constexpr double kSwitchMargin = 1e-3;
+
+// Distance of the sample (v, r) from the law's switching surfaces (∞ for smooth laws).
+double SwitchDistance(const FrictionParameters& p, double v, double r) {
+  switch (p.equality) {
+    case FrictionEquality::kMinMax:
+      return std::min(std::abs(p.rho * (r + p.limit) - v), std::abs(p.rho * (r - p.limit) - v));
+    case FrictionEquality::kHueber:
+      return std::min(std::abs(std::abs(r - p.rho * v) - p.limit), std::abs(r - p.rho * v));
+    case FrictionEquality::kPiecewiseLinear:
+      return std::min(std::abs(v - p.delta), std::abs(v + p.delta));
+    case FrictionEquality::kSign:
+      return std::abs(v);
+    default:
+      return INFINITY;
+  }
+}
+
+struct Setup {
+  HarmonicSet set{7, true, 32};
+  FourierTransform fourier{set};
+  NonlinearityContext ctx;
+  Setup(bool relative) {
+    ctx.fourier = &fourier;
+    ctx.local_dofs = relative ? std::vector<int>{0, 1} : std::vector<int>{1};
+    ctx.own_offset = 2 * set.NumCoefficients();
+  }
+};
+
+// A random state (two displacement signals, one force signal) with every sample at least
+// kSwitchMargin from a switch; counts how many samples are on each active branch.
+Eigen::VectorXd StateAwayFromSwitches(const CoulombFriction& law, const Setup& s, double omega,
+                                      std::mt19937& rng) {
+  const int nc = s.set.NumCoefficients();
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int attempt = 0; attempt < 10000; ++attempt) {
+    Eigen::VectorXd y(3 * nc);
+    for (int i = 0; i < y.size(); ++i) y(i) = normal(rng) / (1 + i % nc);
+    y.tail(nc) *= 1.5 * law.parameters().limit;
+    const Eigen::VectorXd v = s.fourier.ToTime(law.VelocityCoefficients(s.ctx, y, omega));
+    const Eigen::VectorXd r = s.fourier.ToTime(y.tail(nc));
+    double distance = INFINITY;
+    for (int j = 0; j < v.size(); ++j) {
+      distance = std::min(distance, SwitchDistance(law.parameters(), v(j), r(j)));
+    }
+    if (distance > kSwitchMargin) return y;
+  }
+  FAIL("no state away from switches found");
+  return {};
+}
+
+TEST_CASE("every friction law: Jacobian and ω-derivative match finite differences") {
+  std::mt19937 rng(20261122);
+  const FrictionEquality laws[] = {FrictionEquality::kMinMax, FrictionEquality::kHueber,
+                                   FrictionEquality::kTanh, FrictionEquality::kArctan,
+                                   FrictionEquality::kPiecewiseLinear, FrictionEquality::kSign};
+  for (FrictionEquality equality : laws) {
+    for (bool relative : {false, true}) {
+      CAPTURE(ToString(equality));
+      CAPTURE(relative);
+      FrictionParameters p;
+      p.equality = equality;
+      p.limit = 9.0;
+      p.rho = 0.7;
+      p.alpha = 3.0;
+      p.delta = 0.5;
+      const CoulombFriction law(relative ? 0 : 1, relative ? 1 : -1, p);
+      Setup setup(relative);
+      const double omega = 0.8;
+      for (int trial = 0; trial < 3; ++trial) {
+        const Eigen::VectorXd y = StateAwayFromSwitches(law, setup, omega, rng);
+        const JacobianCheckResult result =
+            CheckNonlinearityJacobian(law, setup.ctx, nullptr, y, omega, kFdStep, 1.0);
+        CHECK(result.y_error < kFdTolerance);
+        CHECK(result.omega_error < kFdTolerance);
+      }
+    }
+  }
+}
+
+TEST_CASE("the exact laws' zero set is Coulomb's law; sliding force r = -muN sign(v)") {
+  FrictionParameters p;
+  p.limit = 2.0;
+  for (FrictionEquality equality : {FrictionEquality::kMinMax, FrictionEquality::kHueber}) {
+    p.equality = equality;
+    CAPTURE(ToString(equality));
+    CHECK(EvaluateFrictionEquality(p, 1.5, -2.0).value == doctest::Approx(0.0));   // slip +
+    CHECK(EvaluateFrictionEquality(p, -1.5, 2.0).value == doctest::Approx(0.0));   // slip −
+    CHECK(EvaluateFrictionEquality(p, 0.0, 0.7).value == doctest::Approx(0.0));    // stick
+    CHECK(EvaluateFrictionEquality(p, 1.5, 2.0).value != doctest::Approx(0.0));    // wrong sign
+    CHECK(EvaluateFrictionEquality(p, 0.1, 0.7).value != doctest::Approx(0.0));    // not stuck
+    CHECK(EvaluateFrictionEquality(p, 0.0, 2.5).value != doctest::Approx(0.0));    // |r| > μN
+  }
+}
+
+TEST_CASE("case-file errors name the field") {
+  LinearModel model;
+  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
+  model.stiffness = model.mass;
+  model.damping = model.mass;
+  auto error = [&](const char* text) {
+    try {
+      MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", model);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": -1, "normal_load": 1})") ==
+        "nonlinearities[0].mu: must be non-negative");
+  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1})") ==
+        "nonlinearities[0].normal_load: missing (required)");
+  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
+                  "law": "tanh"})") == "nonlinearities[0].alpha: required by law \"tanh\"");
+  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
+                  "law": "stribeck"})").find("nonlinearities[0].law: unknown friction law") == 0);
+  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
+                  "delta": 1})") == "nonlinearities[0].delta: does not apply to law \"min_max\"");
+}
+
+}  // namespace
+}  // namespace nfrc
