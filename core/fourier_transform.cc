@@ -145,4 +145,50 @@ void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& co
   }
 }
 
+Eigen::MatrixXd FourierTransform::WeightedProduct(
+    const Eigen::Ref<const Eigen::VectorXd>& weights) const {
+  const int n_t = set_.num_samples();
+  CheckShape("weights", weights.rows(), weights.cols(), n_t, 1);
+  auto& spectrum = fft_->spectrum;
+  fft_->fft.fwd(spectrum.data(), weights.data(), n_t);
+  // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
+  // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry).
+  auto cos_sum = [&](int m) {
+    m = ((m % n_t) + n_t) % n_t;
+    return (m <= n_t / 2 ? spectrum[m].real() : spectrum[n_t - m].real()) / n_t;
+  };
+  auto sin_sum = [&](int m) {
+    m = ((m % n_t) + n_t) % n_t;
+    return (m <= n_t / 2 ? -spectrum[m].imag() : spectrum[n_t - m].imag()) / n_t;
+  };
+  const int n_c = set_.NumCoefficients();
+  Eigen::MatrixXd product(n_c, n_c);
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int j = set_.harmonics()[p];
+    const int rc = set_.CosIndex(p);
+    const int rs = set_.SinIndex(p);
+    for (int q = 0; q < set_.num_harmonics(); ++q) {
+      const int k = set_.harmonics()[q];
+      const int cc = set_.CosIndex(q);
+      const int cs = set_.SinIndex(q);
+      if (j == 0 && k == 0) {
+        product(rc, cc) = cos_sum(0);
+      } else if (j == 0) {
+        product(rc, cc) = cos_sum(k);
+        product(rc, cs) = sin_sum(k);
+      } else if (k == 0) {
+        product(rc, cc) = 2.0 * cos_sum(j);
+        product(rs, cc) = 2.0 * sin_sum(j);
+      } else {
+        // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise.
+        product(rc, cc) = cos_sum(j - k) + cos_sum(j + k);
+        product(rc, cs) = sin_sum(k + j) + sin_sum(k - j);
+        product(rs, cc) = sin_sum(j + k) + sin_sum(j - k);
+        product(rs, cs) = cos_sum(j - k) - cos_sum(j + k);
+      }
+    }
+  }
+  return product;
+}
+
 }  // namespace nfrc

@@ -44,6 +44,11 @@ class FourierTransform {
   const Eigen::MatrixXd& SampleMatrix() const { return sample_matrix_; }
   const Eigen::MatrixXd& ProjectionMatrix() const { return projection_matrix_; }
 
+  // P·diag(weights)·E for samples `weights` (size N_t): the Jacobian block of a sampled law
+  // with pointwise derivative `weights`. Assembled from the discrete Fourier coefficients of
+  // the weights by product-to-sum identities, O(N_t log N_t + n_c²) instead of O(N_t n_c²).
+  Eigen::MatrixXd WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights) const;
+
  private:
   struct FftState;
   HarmonicSet set_;

@@ -115,14 +115,12 @@ void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
     if (row_other >= 0) {
       jacobian->block(row_other, row_own, nc, nc) += Eigen::MatrixXd::Identity(nc, nc);
     }
-    const Eigen::MatrixXd& e = fourier.SampleMatrix();
-    const Eigen::MatrixXd& p = fourier.ProjectionMatrix();
     // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E.
     const Eigen::MatrixXd d_velocity =
-        (p * psi_v.asDiagonal() * e) * (omega * fourier.DerivativeMatrix());
+        fourier.WeightedProduct(psi_v) * (omega * fourier.DerivativeMatrix());
     jacobian->block(row_own, row_dof, nc, nc) += d_velocity;
     if (row_other >= 0) jacobian->block(row_own, row_other, nc, nc) -= d_velocity;
-    jacobian->block(row_own, row_own, nc, nc) += p * psi_r.asDiagonal() * e;
+    jacobian->block(row_own, row_own, nc, nc) += fourier.WeightedProduct(psi_r);
   }
   if (d_omega != nullptr) {
     // v = ωD x: ∂v/∂ω = D x = v / ω.

@@ -94,8 +94,7 @@ void PolynomialSpring::Evaluate(const NonlinearityContext& ctx, const Eigen::Vec
   if (!grounded) residual.segment(row_other, nc) -= force_coefficients;
 
   if (jacobian != nullptr) {
-    const Eigen::MatrixXd block = fourier.ProjectionMatrix() * stiffness.asDiagonal() *
-                                  fourier.SampleMatrix();
+    const Eigen::MatrixXd block = fourier.WeightedProduct(stiffness);
     jacobian->block(row_dof, row_dof, nc, nc) += block;
     if (!grounded) {
       jacobian->block(row_dof, row_other, nc, nc) -= block;

@@ -1,5 +1,6 @@
 #include "tools/branch_writer.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <numbers>
@@ -119,7 +120,10 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
     }
   }
   previous_ = point;
-  if (std::chrono::steady_clock::now() - last_json_write_ > kJsonInterval) WriteJson();
+  // Large documents are rewritten less often, so that writing stays a small share of the run.
+  const auto interval = std::max<std::chrono::steady_clock::duration>(kJsonInterval,
+                                                                      10 * last_json_duration_);
+  if (std::chrono::steady_clock::now() - last_json_write_ > interval) WriteJson();
   return true;
 }
 
@@ -199,6 +203,7 @@ void BranchWriter::Finish(const ContinuationSummary& summary) {
 }
 
 void BranchWriter::WriteJson() {
+  const auto start = std::chrono::steady_clock::now();
   const std::string path = dir_ + "/branch.json";
   const std::string temporary = path + ".tmp";
   {
@@ -209,6 +214,7 @@ void BranchWriter::WriteJson() {
   }
   std::filesystem::rename(temporary, path);
   last_json_write_ = std::chrono::steady_clock::now();
+  last_json_duration_ = last_json_write_ - start;
 }
 
 }  // namespace nfrc

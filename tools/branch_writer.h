@@ -14,7 +14,8 @@
 namespace nfrc {
 
 // Streams a branch to DIR/branch.csv (a line per point, flushed) and DIR/branch.json
-// (rewritten atomically at most every kJsonInterval and at the end), so a run that stops
+// (rewritten atomically at most every kJsonInterval, or ten times the last write's duration
+// if longer, at every fold and at the end), so a run that stops
 // part-way leaves every point computed so far on disk.
 class BranchWriter : public ContinuationObserver {
  public:
@@ -46,6 +47,7 @@ class BranchWriter : public ContinuationObserver {
   std::ofstream csv_;
   nlohmann::json document_;
   std::chrono::steady_clock::time_point last_json_write_;
+  std::chrono::steady_clock::duration last_json_duration_{};
   std::optional<BranchPoint> previous_;
   int num_signals_ = 0;
 };

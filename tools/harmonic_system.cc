@@ -22,7 +22,11 @@ std::vector<int> RetainedDofs(const std::vector<std::unique_ptr<Nonlinearity>>& 
   for (const auto& law : laws) {
     for (int dof : law->Dofs()) add(dof);
   }
-  for (int dof : output_dofs) add(dof);
+  // Without laws the problem is linear: keep the outputs (or the forced DOFs) as unknowns.
+  // With laws, outputs are recovered after each solve rather than carried as unknowns.
+  if (retained.empty()) {
+    for (int dof : output_dofs) add(dof);
+  }
   if (retained.empty()) {
     for (const ForcingTerm& term : forcing) add(term.dof);
   }

@@ -18,7 +18,8 @@ namespace nfrc {
 // own equations: the problem the continuation engine follows in ω.
 class HarmonicSystem : public ContinuationProblem {
  public:
-  // Retains the laws' DOFs and `output_dofs` (or the forcing DOFs if both are empty).
+  // Retains the laws' DOFs; a problem without laws retains `output_dofs` (or the forced
+  // DOFs). Other DOFs, outputs included, are recovered from the solution when asked for.
   HarmonicSystem(ModelDefinition model, HarmonicSet set,
                  std::vector<std::unique_ptr<Nonlinearity>> laws, std::vector<int> output_dofs,
                  Condensation::Method method = Condensation::Method::kAuto);

@@ -1,6 +1,7 @@
 // Benchmarks of the foundation (prints figures; asserts nothing):
 //   1. the Duffing FRC with H = 7 (cases/duffing.json): wall time, points, Newton per point;
-//   2. condensation of sparse chain models (10^4 and 10^5 DOFs) onto 2 DOFs with H = 20:
+//   2. the friction oscillator FRC, N = 10, N_φ = 60 (cases/friction/frc_n10.json);
+//   3. condensation of sparse chain models (10^4 and 10^5 DOFs) onto 2 DOFs with H = 20:
 //      time per frequency (factorisation + Schur complement + ω-derivatives of all harmonics).
 #include <algorithm>
 #include <chrono>
@@ -24,20 +25,22 @@ double Median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-void BenchDuffing(int repeats) {
-  const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json";
+void BenchCase(const std::string& name, int repeats) {
+  const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/" + name;
   std::vector<double> times;
   nfrc::Branch branch;
   for (int r = 0; r < repeats; ++r) {
     nfrc::Case the_case = nfrc::LoadCase(path);
     const auto start = Clock::now();
     auto system = nfrc::MakeSystem(the_case);
-    branch = nfrc::Trace(*system, the_case.continuation);
+    const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
+    branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
     times.push_back(Seconds(start));
   }
   const auto& s = branch.summary;
-  std::printf("duffing H=7 (cases/duffing.json): %s, %d points, %d folds\n",
-              nfrc::ToString(s.reason), s.num_points, s.num_folds);
+  std::printf("%s: %s, %d points, %d folds, %d unknowns\n", name.c_str(),
+              nfrc::ToString(s.reason), s.num_points, s.num_folds,
+              static_cast<int>(branch.points.front().y.size()));
   std::printf("  wall time      %.2f ms (median of %d runs)\n", 1e3 * Median(times), repeats);
   std::printf("  per point      %.3f ms\n", 1e3 * Median(times) / s.num_points);
   std::printf("  Newton/point   %.2f (%d iterations, %d rejected steps)\n",
@@ -83,7 +86,8 @@ void BenchChain(int n, int frequencies) {
 }  // namespace
 
 int main() {
-  BenchDuffing(5);
+  BenchCase("duffing.json", 5);
+  BenchCase("friction/frc_n10.json", 3);
   BenchChain(10000, 5);
   BenchChain(100000, 5);
   return 0;

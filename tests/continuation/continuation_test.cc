@@ -338,3 +338,48 @@ TEST_CASE("progress: one line per point and fold, and a summary line") {
 
 }  // namespace
 }  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+// R = y − λ − 20·max(0, λ − 1/2): a piecewise-smooth branch whose slope jumps from 1 to 21
+// at λ = 1/2, turning the tangent by more than max_tangent_angle however short the step, as
+// semismooth HBM branches do where a sample of a nonsmooth law switches branch. (A turn of
+// more than 90° cannot be passed by pseudo-arclength: no hyperplane beyond the kink meets
+// the branch; the friction branches' kinks turn by 0.4–0.7 rad.)
+class KinkProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    const bool beyond = lambda > 0.5;
+    (*residual)(0) = y(0) - lambda - (beyond ? kSlopeJump * (lambda - 0.5) : 0.0);
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 1.0;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = -1.0 - (beyond ? kSlopeJump : 0.0);
+    return true;
+  }
+  static constexpr double kSlopeJump = 20.0;
+};
+
+TEST_CASE("kink: a nonsmooth branch is passed, not stalled on, and stays on the curve") {
+  KinkProblem problem;
+  ContinuationOptions options;
+  options.lambda_start = 0.0;
+  options.lambda_end = 1.0;
+  options.initial_step = 0.05;
+  const Branch branch = Continue(problem, Eigen::VectorXd::Constant(1, 0.0), options);
+  CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
+  int kinks = 0;
+  for (const StepRecord& record : branch.summary.history) {
+    if (record.accepted && record.note.rfind("kink", 0) == 0) ++kinks;
+  }
+  CHECK(kinks == 1);
+  for (const BranchPoint& point : branch.points) {
+    const double exact =
+        point.lambda + (point.lambda > 0.5 ? KinkProblem::kSlopeJump * (point.lambda - 0.5) : 0);
+    CHECK(std::abs(point.y(0) - exact) < 1e-9 * (1 + std::abs(exact)));  // R = 0 at points
+  }
+}
+
+}  // namespace
+}  // namespace nfrc

@@ -215,3 +215,26 @@ TEST_CASE("FourierTransform is movable and rejects bad shapes") {
 
 }  // namespace
 }  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+TEST_CASE("WeightedProduct equals the dense P diag(w) E for full and odd sets, any N_t") {
+  // Both are sums of the same N_t products; they differ by round-off only (~N_t·1e-16).
+  constexpr double kTolerance = 1e-12;
+  for (bool odd : {false, true}) {
+    for (int samples : {0, 15, 33, 64}) {
+      const HarmonicSet set(7, odd, samples);
+      const FourierTransform fourier(set);
+      const Eigen::VectorXd w = Eigen::VectorXd::Random(set.num_samples());
+      const Eigen::MatrixXd dense =
+          fourier.ProjectionMatrix() * w.asDiagonal() * fourier.SampleMatrix();
+      CAPTURE(odd);
+      CAPTURE(samples);
+      CHECK((fourier.WeightedProduct(w) - dense).cwiseAbs().maxCoeff() < kTolerance);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nfrc

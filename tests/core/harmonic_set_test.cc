@@ -110,3 +110,31 @@ TEST_CASE("HarmonicSet validation names the field") {
 
 }  // namespace
 }  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+TEST_CASE("ChangeHarmonicSet copies shared harmonics of every block and zero-fills the rest") {
+  const HarmonicSet coarse(3, true);  // harmonics 1, 3
+  const HarmonicSet fine(7, true);    // harmonics 1, 3, 5, 7
+  Eigen::VectorXd two_signals(8);
+  two_signals << 1, 2, 3, 4, 5, 6, 7, 8;  // (a1 b1 a3 b3) for two signals
+  const Eigen::VectorXd up = ChangeHarmonicSet(two_signals, coarse, fine);
+  REQUIRE(up.size() == 16);
+  Eigen::VectorXd expected(16);
+  expected << 1, 2, 3, 4, 0, 0, 0, 0, 5, 6, 7, 8, 0, 0, 0, 0;
+  CHECK(up == expected);
+  // And back down: truncation recovers the original.
+  CHECK(ChangeHarmonicSet(up, fine, coarse) == two_signals);
+  // Full set with a constant: a0 is carried, harmonics absent from the odd set are zero.
+  const HarmonicSet full(2, false);  // 0, 1, 2 → a0 a1 b1 a2 b2
+  Eigen::VectorXd odd(2);
+  odd << 9, -9;
+  Eigen::VectorXd full_expected(5);
+  full_expected << 0, 9, -9, 0, 0;
+  CHECK(ChangeHarmonicSet(odd, HarmonicSet(1, true), full) == full_expected);
+  CHECK_THROWS_AS(ChangeHarmonicSet(Eigen::VectorXd(3), coarse, fine), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nfrc
