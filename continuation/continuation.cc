@@ -33,6 +33,11 @@ constexpr int kMaxAttemptsPerPoint = 50;
 constexpr double kKinkStepRatio = 0.6;
 constexpr double kKinkAngleRatio = 0.75;
 
+// Natural-parameter fallback: not where the tangent is this close to a fold (|τ_λ| small),
+// and only for a solution within this many step lengths of the last point.
+constexpr double kMinNaturalTangent = 1e-3;
+constexpr double kNaturalReach = 10.0;
+
 // Enough digits to locate a stall or a bound in a message, as in the progress lines.
 constexpr int kMessageDigits = 8;
 
@@ -201,7 +206,10 @@ class Continuer {
         CorrectOnArclength(evaluator_, scaling_, settings_, u_pred, tangent_scaled);
     newton_iterations_ += corrected.iterations;
     record.newton_iterations = corrected.iterations;
-    if (!corrected.converged) return Reject(std::move(record), corrected.failure);
+    if (!corrected.converged) {
+      if (std::optional<double> next = NaturalStep(h, tangent_scaled, record)) return next;
+      return Reject(std::move(record), corrected.failure);
+    }
 
     Eigen::VectorXd new_tangent;
     if (!NextTangent(corrected.linearization, scaling_, settings_.residual_scale, tangent_scaled,
@@ -241,10 +249,53 @@ class Continuer {
     point.step = h;
     point.newton_iterations = corrected.iterations;
     point.residual_norm = corrected.residual_norm;
+    Accept(std::move(record), point, corrected.u, new_tangent);
+    return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
+  }
+
+  // Fallback after a failed corrector: where a nonsmooth branch turns by more than 90° (in
+  // the scaled norm) at a kink, no arclength hyperplane beyond the kink meets it, yet the
+  // branch is still a graph over λ. Steps at fixed λ by the λ-extent of the arclength step,
+  // accepted only if the solution lies within kNaturalReach·h of the last point (so that it
+  // cannot jump to another branch), and orients the new tangent along the secant.
+  std::optional<double> NaturalStep(double h, const Eigen::VectorXd& tangent_scaled,
+                                    StepRecord& record) {
+    const double t_lambda = tangent_scaled(n());
+    if (std::abs(t_lambda) < kMinNaturalTangent) return std::nullopt;  // near a fold
+    const double lambda = u_(n()) + h * t_lambda * scaling_.lambda_scale();
+    if (lambda <= lambda_min_ || lambda >= lambda_max_) return std::nullopt;
+    Eigen::VectorXd guess = u_;
+    guess(n()) = lambda;
+    CorrectorResult solved = CorrectAtFixedLambda(evaluator_, scaling_, settings_, guess);
+    newton_iterations_ += solved.iterations;
+    record.newton_iterations += solved.iterations;
+    if (!solved.converged || scaling_.Norm(solved.u - u_) > kNaturalReach * h) {
+      return std::nullopt;
+    }
+    const Eigen::VectorXd secant = scaling_.ToScaled(solved.u - u_).normalized();
+    Eigen::VectorXd new_tangent;
+    if (!NextTangent(solved.linearization, scaling_, settings_.residual_scale, secant,
+                     &new_tangent) ||
+        new_tangent(n()) * t_lambda <= 0.0) {
+      return std::nullopt;
+    }
+    BranchPoint point;
+    point.step = scaling_.Norm(solved.u - u_);
+    point.newton_iterations = solved.iterations;
+    point.residual_norm = solved.residual_norm;
+    record.note = "natural-parameter step after a failed arclength corrector";
+    angle_rejection_.reset();
+    Accept(std::move(record), point, solved.u, new_tangent);
+    return controller_.AfterSuccess(h, solved.iterations, 0.0);
+  }
+
+  // Records an accepted step and its point, then checks the stop rules.
+  void Accept(StepRecord record, const BranchPoint& point, const Eigen::VectorXd& u,
+              const Eigen::VectorXd& tangent_scaled) {
     const Eigen::VectorXd u_previous = u_;
     record.accepted = true;
     branch_.summary.history.push_back(std::move(record));
-    AddPoint(point, corrected.u, new_tangent);
+    AddPoint(point, u, tangent_scaled);
     if (!finished_ && closure_->Closes(scaling_, u_previous, u_, tangent_)) {
       Finish(
           TerminationReason::kClosedCurve,
@@ -255,7 +306,6 @@ class Continuer {
                                                 ") reached at " +
                                                 Describe(options_.lambda_name, u_(n())));
     }
-    return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
 
   // The step left [λ_min, λ_max] at `u_outside`: solves at λ = bound from the chord's

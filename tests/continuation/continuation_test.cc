@@ -346,7 +346,7 @@ namespace {
 // at λ = 1/2, turning the tangent by more than max_tangent_angle however short the step, as
 // semismooth HBM branches do where a sample of a nonsmooth law switches branch. (A turn of
 // more than 90° cannot be passed by pseudo-arclength: no hyperplane beyond the kink meets
-// the branch; the friction branches' kinks turn by 0.4–0.7 rad.)
+// the branch: see the V-shaped problem below.)
 class KinkProblem : public ContinuationProblem {
  public:
   int NumUnknowns() const override { return 1; }
@@ -379,6 +379,41 @@ TEST_CASE("kink: a nonsmooth branch is passed, not stalled on, and stays on the 
         point.lambda + (point.lambda > 0.5 ? KinkProblem::kSlopeJump * (point.lambda - 0.5) : 0);
     CHECK(std::abs(point.y(0) - exact) < 1e-9 * (1 + std::abs(exact)));  // R = 0 at points
   }
+}
+
+// R = y − |λ − 1/2|: at λ = 1/2 the branch turns by more than 90° in the scaled norm, so no
+// arclength hyperplane beyond the kink meets it; the natural-parameter fallback must pass it.
+class VeeProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    (*residual)(0) = y(0) - std::abs(lambda - 0.5);
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 1.0;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = lambda > 0.5 ? -1.0 : 1.0;
+    return true;
+  }
+};
+
+TEST_CASE("kink over 90 degrees: passed by a natural-parameter step, orientation kept") {
+  VeeProblem problem;
+  ContinuationOptions options;
+  options.lambda_start = 0.0;
+  options.lambda_end = 1.0;
+  options.initial_step = 0.05;
+  const Branch branch = Continue(problem, Eigen::VectorXd::Constant(1, 0.5), options);
+  CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
+  CHECK(branch.points.back().lambda == doctest::Approx(1.0));
+  int natural = 0;
+  for (const StepRecord& record : branch.summary.history) {
+    if (record.accepted && record.note.rfind("natural", 0) == 0) ++natural;
+  }
+  CHECK(natural >= 1);
+  for (size_t i = 1; i < branch.points.size(); ++i) {
+    CHECK(branch.points[i].lambda > branch.points[i - 1].lambda);  // never turned back
+    CHECK(std::abs(branch.points[i].y(0) - std::abs(branch.points[i].lambda - 0.5)) < 1e-9);
+  }
+  CHECK(branch.folds.empty());
 }
 
 }  // namespace
