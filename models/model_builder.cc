@@ -6,6 +6,7 @@
 #include "core/input_fields.h"
 #include "models/damping.h"
 #include "models/matrix_market.h"
+#include "models/rod.h"
 
 namespace nfrc {
 namespace {
@@ -140,12 +141,31 @@ ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_di
   return definition;
 }
 
+ModelDefinition BuildRodModel(InputFields& fields, const std::string& /*base_dir*/) {
+  RodParameters parameters;
+  parameters.elements = fields.RequiredInt("elements");
+  parameters.length = fields.RequiredNumber("length");
+  parameters.area = fields.RequiredNumber("area");
+  parameters.young = fields.RequiredNumber("young");
+  parameters.density = fields.RequiredNumber("density");
+  ModelDefinition definition;
+  try {
+    definition.model = BuildRod(parameters);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(fields.path() + "." + error.what());
+  }
+  if (fields.Has("damping")) definition.model.damping = ReadDamping(fields, definition.model);
+  definition.forcing = ReadForcing(fields, definition.model);
+  return definition;
+}
+
 }  // namespace
 
 ModelDefinition BuildModel(const nlohmann::json& spec, const std::string& base_dir) {
   using Builder = ModelDefinition (*)(InputFields&, const std::string&);
   static const std::map<std::string, Builder> builders = {
       {"matrices", &BuildMatrixModel},
+      {"rod", &BuildRodModel},
   };
   InputFields fields(spec, "model");
   const std::string type = fields.RequiredString("type");
