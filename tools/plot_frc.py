@@ -8,7 +8,6 @@ One directory: writes DIR/frc.png and DIR/frc.svg. Several: overlays them and wr
 --output (default: the first DIR's frc_overlay). Folds are marked with open circles.
 """
 import argparse
-import json
 import os
 import sys
 
@@ -17,16 +16,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from nfrc_output import load_branch  # noqa: E402
+
 
 def load(directory):
-    path = os.path.join(directory, "branch.json")
-    try:
-        with open(path) as handle:
-            return json.load(handle)
-    except OSError as error:
-        sys.exit(f"nfrc plot: cannot read {path}: {error.strerror}")
-    except json.JSONDecodeError as error:
-        sys.exit(f"nfrc plot: {path} is not valid JSON: {error}")
+    return load_branch(directory, "nfrc plot")
 
 
 def main():

@@ -20,7 +20,6 @@ Writes BASE.png (and BASE.svg with --svg); BASE defaults to DIR/signals_K.
 """
 import argparse
 import csv
-import json
 import math
 import os
 import sys
@@ -31,6 +30,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from nfrc_output import load_branch  # noqa: E402
+
 PANEL_NAMES = ("x", "x1", "x2", "v", "v1", "v2", "r", "rv", "rx")
 RUN_COLOURS = ["black", "tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple",
                "tab:brown", "tab:cyan"]
@@ -38,18 +39,6 @@ RUN_COLOURS = ["black", "tab:red", "tab:blue", "tab:green", "tab:orange", "tab:p
 
 def fail(message):
     sys.exit(f"plot_signals: {message}")
-
-
-def load_branch(directory):
-    path = os.path.join(directory, "branch.json")
-    try:
-        with open(path) as handle:
-            return json.load(handle)
-    except OSError as error:
-        fail(f"cannot read {path}: {error.strerror}")
-    except json.JSONDecodeError as error:
-        fail(f"{path} is not valid JSON: {error}")
-    return None
 
 
 def _resolve_dof(value, dof_names):
@@ -113,7 +102,7 @@ class Signals:
 
     def __init__(self, directory, index=0):
         self.directory = directory
-        self.doc = load_branch(directory)
+        self.doc = load_branch(directory, "plot_signals")
         entries = self.doc.get("signals", [])
         if not entries:
             fail(f"{directory}/branch.json has no signals (the case needs output.signals_at)")
