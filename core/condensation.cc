@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/lu_factorization.h"
+#include "core/relative_coordinates.h"
 
 namespace nfrc {
 namespace {
@@ -324,9 +325,39 @@ void Condensation::Update(double omega) {
   if (impl.n_l > 0 && !impl.dense && !impl.analysis) {
     impl.analysis = std::make_unique<internal::SparseAnalysis>(impl.ll.csc);
   }
-  for (int p = 0; p < num_positions; ++p) impl.Condense(p, set_.harmonics()[p], omega);
+  for (int p = 0; p < num_positions; ++p) {
+    impl.Condense(p, set_.harmonics()[p], omega);
+    if (!compliance_.empty()) {
+      const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(compliance_.data(), impl.n_r);
+      RelativeBlock relative =
+          ToRelativeCoordinates(d, impl.z[p], impl.dz[p], impl.f[p], impl.df[p]);
+      impl.z[p] = std::move(relative.z);
+      impl.dz[p] = std::move(relative.dz);
+      impl.f[p] = std::move(relative.f);
+      impl.df[p] = std::move(relative.df);
+    }
+  }
   impl.updated = true;
   omega_ = omega;
+}
+
+void Condensation::SetObstacleCompliance(std::vector<double> compliance) {
+  if (static_cast<int>(compliance.size()) != num_retained()) {
+    throw std::invalid_argument("compliance: need one entry per retained DOF (" +
+                                std::to_string(num_retained()) + "), got " +
+                                std::to_string(compliance.size()));
+  }
+  bool any = false;
+  for (double d : compliance) {
+    if (!std::isfinite(d) || d < 0.0) {
+      throw std::invalid_argument("compliance: entries must be finite and >= 0, got " +
+                                  std::to_string(d));
+    }
+    any = any || d > 0.0;
+  }
+  compliance_ = any ? std::move(compliance) : std::vector<double>();
+  impl_->updated = false;
+  omega_ = std::numeric_limits<double>::quiet_NaN();
 }
 
 const Eigen::MatrixXcd& Condensation::Z(int position) const {
@@ -410,6 +441,40 @@ Eigen::VectorXd Condensation::RealForcingDerivative() const {
   return RealVector(set_, impl_->df, num_retained());
 }
 
+Eigen::MatrixXd Condensation::RealOperatorRows(int i, bool derivative) const {
+  CheckAccess(impl_->updated, 0, set_.num_harmonics());
+  if (i < 0 || i >= num_retained()) throw std::invalid_argument("i: not a retained DOF index");
+  const std::vector<Eigen::MatrixXcd>& blocks = derivative ? impl_->dz : impl_->z;
+  const int n_c = set_.NumCoefficients();
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(n_c, num_unknowns());
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int ic = set_.CosIndex(p);
+    const int is = set_.SinIndex(p);
+    for (int j = 0; j < num_retained(); ++j) {
+      const Complex z = blocks[p](i, j);
+      rows(ic, j * n_c + ic) = z.real();
+      if (set_.harmonics()[p] == 0) continue;
+      rows(ic, j * n_c + is) = z.imag();
+      rows(is, j * n_c + ic) = -z.imag();
+      rows(is, j * n_c + is) = z.real();
+    }
+  }
+  return rows;
+}
+
+Eigen::VectorXd Condensation::RealForcingRows(int i, bool derivative) const {
+  CheckAccess(impl_->updated, 0, set_.num_harmonics());
+  if (i < 0 || i >= num_retained()) throw std::invalid_argument("i: not a retained DOF index");
+  const std::vector<Eigen::VectorXcd>& vectors = derivative ? impl_->df : impl_->f;
+  const int n_c = set_.NumCoefficients();
+  Eigen::VectorXd rows = Eigen::VectorXd::Zero(n_c);
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    rows(set_.CosIndex(p)) = vectors[p](i).real();
+    if (set_.harmonics()[p] != 0) rows(set_.SinIndex(p)) = -vectors[p](i).imag();
+  }
+  return rows;
+}
+
 Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   CheckAccess(impl_->updated, 0, set_.num_harmonics());
   if (x.size() != num_unknowns()) {
@@ -419,8 +484,6 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
   const Impl& impl = *impl_;
   const int n_c = set_.NumCoefficients();
   Eigen::MatrixXd result(model_.num_dofs(), n_c);
-  for (int i = 0; i < impl.n_r; ++i) result.row(retained_[i]) = x.segment(i * n_c, n_c);
-  if (impl.n_l == 0) return result;
   Eigen::MatrixXcd x_l(impl.n_l, 1);
   for (int p = 0; p < set_.num_harmonics(); ++p) {
     const int k = set_.harmonics()[p];
@@ -431,6 +494,16 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
     for (int i = 0; i < impl.n_r; ++i) {
       x_r(i) = Complex(x(i * n_c + ic), k == 0 ? 0.0 : -x(i * n_c + is));
     }
+    if (!compliance_.empty()) {
+      const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(compliance_.data(), impl.n_r);
+      x_r = AbsoluteFromRelative(d, RelativeBlock{impl.z[p], impl.dz[p], impl.f[p], impl.df[p]},
+                                 x_r);
+    }
+    for (int i = 0; i < impl.n_r; ++i) {
+      result(retained_[i], ic) = x_r(i).real();
+      if (k != 0) result(retained_[i], is) = -x_r(i).imag();
+    }
+    if (impl.n_l == 0) continue;
     impl.CondensedRhs(p, StiffnessWeights(k, omega_), x_r, x_l, 0);
     impl.factors[p]->Solve(x_l, false);
     for (int l = 0; l < impl.n_l; ++l) {

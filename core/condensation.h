@@ -37,6 +37,14 @@ class Condensation {
   void Update(double omega);
   double omega() const { return omega_; }
 
+  // Massless obstacles behind retained DOFs: compliance (m/N, ≥ 0; 0 = rigid or none) per
+  // retained DOF. When any is non-zero the condensed unknowns of those DOFs are relative
+  // displacements x − x_obs and Z, F and their derivatives are those of
+  // relative_coordinates.h; Recover returns absolute displacements. Throws
+  // std::invalid_argument for a wrong size or a negative or non-finite entry.
+  void SetObstacleCompliance(std::vector<double> compliance);
+  bool has_obstacles() const { return !compliance_.empty(); }
+
   const std::vector<int>& retained() const { return retained_; }
   const HarmonicSet& harmonic_set() const { return set_; }
   int num_retained() const { return static_cast<int>(retained_.size()); }
@@ -55,9 +63,15 @@ class Condensation {
   Eigen::MatrixXd RealOperatorDerivative() const;
   Eigen::VectorXd RealForcing() const;
   Eigen::VectorXd RealForcingDerivative() const;
+  // Rows of RealOperator() (or of its derivative) belonging to retained DOF i
+  // (NumCoefficients × num_unknowns), and the matching rows of the forcing.
+  Eigen::MatrixXd RealOperatorRows(int i, bool derivative) const;
+  Eigen::VectorXd RealForcingRows(int i, bool derivative) const;
 
   // Coefficients of every DOF (num_dofs × NumCoefficients, row = DOF) given the retained
-  // DOFs' coefficients x (condensed layout), at the current ω.
+  // DOFs' coefficients x (condensed layout), at the current ω. With obstacles, x holds
+  // relative displacements and must solve the condensed equations (the interface force is
+  // read from them).
   Eigen::MatrixXd Recover(const Eigen::Ref<const Eigen::VectorXd>& x) const;
 
  private:
@@ -67,6 +81,7 @@ class Condensation {
   HarmonicSet set_;
   std::vector<ForcingTerm> forcing_;
   Method method_;
+  std::vector<double> compliance_;  // empty: no obstacle
   double omega_;
   std::unique_ptr<Impl> impl_;
 };

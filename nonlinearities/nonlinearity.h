@@ -47,6 +47,11 @@ class Nonlinearity {
   // Model DOFs the law acts on; the condensation keeps them.
   virtual std::vector<int> Dofs() const = 0;
 
+  // Compliance (m/N) of a massless obstacle behind each of Dofs(), 0 for none; empty means
+  // none at all. The system then works in relative coordinates x − x_obs at those DOFs
+  // (Condensation::SetObstacleCompliance), so the law sees relative displacements.
+  virtual std::vector<double> ObstacleCompliance() const { return {}; }
+
   // Number of own unknowns (placed at ctx.own_offset) for a harmonic set.
   virtual int NumOwnUnknowns(const HarmonicSet& /*set*/) const { return 0; }
 
@@ -68,6 +73,14 @@ class Nonlinearity {
   virtual std::vector<LawSignal> Signals(const NonlinearityContext& /*ctx*/,
                                          const Eigen::VectorXd& /*y*/, double /*omega*/,
                                          const FourierTransform& /*fine*/) const {
+    return {};
+  }
+
+  // Signals on the law's own N_t samples (ctx.fourier's grid) as the law computed them,
+  // before truncation to the harmonic bandwidth (e.g. DLFT's corrected contact force).
+  virtual std::vector<LawSignal> RawSamples(const NonlinearityContext& /*ctx*/,
+                                            const Eigen::VectorXd& /*y*/,
+                                            double /*omega*/) const {
     return {};
   }
 

@@ -2,6 +2,8 @@
 
 #include "core/input_fields.h"
 #include "nonlinearities/coulomb_friction.h"
+#include "nonlinearities/dlft_contact.h"
+#include "nonlinearities/penalty_contact.h"
 #include "nonlinearities/polynomial_spring.h"
 
 namespace nfrc {
@@ -10,6 +12,8 @@ const std::map<std::string, NonlinearityFactory>& NonlinearityRegistry() {
   static const std::map<std::string, NonlinearityFactory> registry = {
       {"coulomb_friction", &CoulombFriction::FromJson},
       {"cubic_spring", &PolynomialSpring::CubicFromJson},
+      {"dlft_contact", &DlftContact::FromJson},
+      {"penalty_contact", &PenaltyContact::FromJson},
       {"polynomial_spring", &PolynomialSpring::PolynomialFromJson},
   };
   return registry;

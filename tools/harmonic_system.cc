@@ -61,6 +61,33 @@ HarmonicSystem::HarmonicSystem(ModelDefinition model, HarmonicSet set,
     contexts_.push_back(ctx);
   }
   num_unknowns_ = offset;
+
+  // Obstacles: one per DOF, and no other law may act on an obstacle's DOF, whose unknown is
+  // then a relative displacement.
+  std::vector<double> compliance(retained_.size(), 0.0);
+  bool any = false;
+  for (size_t i = 0; i < laws_.size(); ++i) {
+    const std::vector<double> law_compliance = laws_[i]->ObstacleCompliance();
+    for (size_t j = 0; j < law_compliance.size(); ++j) {
+      if (law_compliance[j] == 0.0) continue;
+      const int local = contexts_[i].local_dofs[j];
+      for (size_t other = 0; other < laws_.size(); ++other) {
+        if (other == i) continue;
+        const auto& dofs = contexts_[other].local_dofs;
+        if (std::find(dofs.begin(), dofs.end(), local) != dofs.end()) {
+          throw InputError("nonlinearities[" + std::to_string(other) +
+                           "]: acts on the DOF that nonlinearities[" + std::to_string(i) +
+                           "] backs with a flexible obstacle; an obstacle DOF takes one law");
+        }
+      }
+      compliance[local] = law_compliance[j];
+      any = true;
+    }
+  }
+  if (any) {
+    condensation_.SetObstacleCompliance(compliance);
+    has_obstacles_ = true;
+  }
 }
 
 void HarmonicSystem::MoveTo(double omega) {
@@ -141,7 +168,8 @@ Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double
                                                 int dof) {
   const int nc = harmonic_set().NumCoefficients();
   const auto found = std::find(retained_.begin(), retained_.end(), dof);
-  if (found != retained_.end()) {
+  // With obstacles the retained unknowns are relative displacements: recover absolute ones.
+  if (found != retained_.end() && !has_obstacles_) {
     return y.segment(static_cast<int>(found - retained_.begin()) * nc, nc);
   }
   MoveTo(omega);

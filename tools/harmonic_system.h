@@ -61,6 +61,7 @@ class HarmonicSystem : public ContinuationProblem {
   std::vector<NonlinearityContext> contexts_;
   int num_displacement_unknowns_ = 0;
   int num_unknowns_ = 0;
+  bool has_obstacles_ = false;
   // Real condensed operator and forcing (and ω-derivatives) cached for cached_omega_.
   double cached_omega_;
   Eigen::MatrixXd z_;

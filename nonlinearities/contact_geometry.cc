@@ -1,0 +1,121 @@
+#include "nonlinearities/contact_geometry.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace nfrc {
+
+ContactGeometry ContactGeometry::Read(InputFields& fields, const LinearModel& model) {
+  ContactGeometry geometry;
+  geometry.dof = fields.RequiredDof("dof", model);
+  if (fields.Has("other")) {
+    geometry.other = fields.RequiredDof("other", model);
+    if (geometry.other == geometry.dof) fields.Fail("other", "must differ from dof");
+  }
+  geometry.direction = fields.OptionalNumber("direction", 1.0);
+  if (geometry.direction != 1.0 && geometry.direction != -1.0) {
+    fields.Fail("direction", "must be 1 (obstacle on the positive side) or -1");
+  }
+  const nlohmann::json& gap = fields.RequiredValue("gap");
+  if (gap.is_number()) {
+    geometry.gap = gap.get<double>();
+  } else if (gap.is_object()) {
+    InputFields gap_fields(gap, fields.path() + ".gap");
+    geometry.gap = gap_fields.OptionalNumber("constant", 0.0);
+    if (gap_fields.Has("harmonics")) {
+      const nlohmann::json& list = gap_fields.RequiredValue("harmonics");
+      if (!list.is_array()) gap_fields.Fail("harmonics", "expected a list");
+      for (size_t i = 0; i < list.size(); ++i) {
+        InputFields term(list[i], gap_fields.path() + ".harmonics[" + std::to_string(i) + "]");
+        GapHarmonic h;
+        h.harmonic = term.RequiredInt("harmonic");
+        if (h.harmonic < 1) term.Fail("harmonic", "must be at least 1 (use constant for 0)");
+        h.cos = term.OptionalNumber("cos", 0.0);
+        h.sin = term.OptionalNumber("sin", 0.0);
+        term.Finish();
+        geometry.gap_harmonics.push_back(h);
+      }
+    }
+    gap_fields.Finish();
+  } else {
+    fields.Fail("gap", "expected a number (m) or an object {constant, harmonics}");
+  }
+  if (!std::isfinite(geometry.gap)) fields.Fail("gap", "must be finite");
+  return geometry;
+}
+
+std::vector<int> ContactGeometry::Dofs() const {
+  if (other < 0) return {dof};
+  return {dof, other};
+}
+
+Eigen::VectorXd ContactGeometry::GapCoefficients(const HarmonicSet& set) const {
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(set.NumCoefficients());
+  if (gap != 0.0) {
+    if (!set.has_constant()) {
+      throw std::invalid_argument("gap: a constant gap needs harmonic 0 (odd_only is false)");
+    }
+    g(set.CosIndex(0)) = gap;
+  }
+  for (const GapHarmonic& h : gap_harmonics) {
+    int position = -1;
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      if (set.harmonics()[p] == h.harmonic) position = p;
+    }
+    if (position < 0) {
+      throw std::invalid_argument("gap: harmonic " + std::to_string(h.harmonic) +
+                                  " is not in the harmonic set");
+    }
+    g(set.CosIndex(position)) += h.cos;
+    g(set.SinIndex(position)) += h.sin;
+  }
+  return g;
+}
+
+Eigen::VectorXd ContactGeometry::RelativeCoefficients(const NonlinearityContext& ctx,
+                                                      const Eigen::VectorXd& y) const {
+  const int nc = ctx.num_coefficients();
+  Eigen::VectorXd relative = y.segment(ctx.DofOffset(0), nc);
+  if (other >= 0) relative -= y.segment(ctx.DofOffset(1), nc);
+  return relative;
+}
+
+Eigen::VectorXd ContactGeometry::GapOf(const NonlinearityContext& ctx,
+                                       const Eigen::VectorXd& y) const {
+  return GapCoefficients(ctx.harmonic_set()) - direction * RelativeCoefficients(ctx, y);
+}
+
+void ContactGeometry::AddForce(const NonlinearityContext& ctx, const Eigen::VectorXd& force,
+                               Eigen::Ref<Eigen::VectorXd> residual) const {
+  const int nc = ctx.num_coefficients();
+  residual.segment(ctx.DofOffset(0), nc) += direction * force;
+  if (other >= 0) residual.segment(ctx.DofOffset(1), nc) -= direction * force;
+}
+
+std::map<std::string, double> ContactDiagnostics(const ContactState& state,
+                                                 const FourierTransform& fine) {
+  const Eigen::VectorXd truncated = fine.ToTime(state.force_coefficients).col(0);
+  int in_contact = 0;
+  for (Eigen::Index j = 0; j < state.force.size(); ++j) in_contact += state.force(j) > 0.0;
+  const double min_gap = state.gap.minCoeff();
+  return {{"min_gap", min_gap},
+          {"max_penetration", std::max(0.0, -min_gap)},
+          {"min_force", truncated.minCoeff()},
+          {"max_force", state.force.maxCoeff()},
+          {"contact_fraction", static_cast<double>(in_contact) / state.force.size()}};
+}
+
+std::vector<LawSignal> ContactSignals(const ContactState& state, const Eigen::VectorXd& gap_coeffs,
+                                      const FourierTransform& fine) {
+  return {{"gap", fine.ToTime(gap_coeffs).col(0)},
+          {"force", fine.ToTime(state.force_coefficients).col(0)}};
+}
+
+std::vector<LawSignal> ContactRawSamples(const ContactState& state,
+                                         const FourierTransform& samples) {
+  return {{"gap", state.gap},
+          {"force_raw", state.force},
+          {"force", samples.ToTime(state.force_coefficients).col(0)}};
+}
+
+}  // namespace nfrc

@@ -1,0 +1,191 @@
+#include "nonlinearities/dlft_contact.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace nfrc {
+namespace {
+
+const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega) {
+  if (ctx.condensation == nullptr) {
+    throw std::logic_error("dlft_contact: the context has no condensation");
+  }
+  if (ctx.condensation->omega() != omega) {
+    throw std::logic_error("dlft_contact: the condensation is not at the evaluated omega");
+  }
+  return *ctx.condensation;
+}
+
+}  // namespace
+
+DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon)
+    : geometry_(std::move(geometry)), obstacle_stiffness_(obstacle_stiffness), epsilon_(epsilon) {
+  if (!(obstacle_stiffness_ >= 0.0) || !std::isfinite(obstacle_stiffness_)) {
+    throw std::invalid_argument("obstacle_stiffness: must be finite and > 0");
+  }
+  if (!(epsilon_ >= 0.0) || !std::isfinite(epsilon_)) {
+    throw std::invalid_argument("epsilon: must be finite and > 0");
+  }
+  if (obstacle_stiffness_ > 0.0 && geometry_.other >= 0) {
+    throw std::invalid_argument(
+        "obstacle_stiffness: not with other (the second body is then part of the model)");
+  }
+}
+
+std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
+                                                    const std::string& path,
+                                                    const LinearModel& model) {
+  InputFields fields(spec, path);
+  fields.RequiredString("type");
+  ContactGeometry geometry = ContactGeometry::Read(fields, model);
+  double stiffness = 0.0;
+  if (fields.Has("obstacle_stiffness")) {
+    stiffness = fields.RequiredNumber("obstacle_stiffness");
+    if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
+      fields.Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+    }
+    if (geometry.other >= 0) {
+      fields.Fail("obstacle_stiffness",
+                  "not allowed with other: the second body is then part of the model");
+    }
+  }
+  double epsilon = 0.0;
+  if (fields.Has("epsilon")) {
+    epsilon = fields.RequiredNumber("epsilon");
+    if (!(epsilon > 0.0) || !std::isfinite(epsilon)) fields.Fail("epsilon", "must be finite and > 0");
+  }
+  fields.Finish();
+  return std::make_unique<DlftContact>(std::move(geometry), stiffness, epsilon);
+}
+
+std::vector<double> DlftContact::ObstacleCompliance() const {
+  if (obstacle_stiffness_ == 0.0) return {};
+  return {1.0 / obstacle_stiffness_};
+}
+
+void DlftContact::set_epsilon(double epsilon) {
+  if (!(epsilon > 0.0) || !std::isfinite(epsilon)) {
+    throw std::invalid_argument("epsilon: must be finite and > 0");
+  }
+  epsilon_ = epsilon;
+}
+
+double DlftContact::DefaultEpsilon(const NonlinearityContext& ctx) {
+  const Condensation& condensation = *ctx.condensation;
+  if (!condensation.harmonic_set().has_constant()) {
+    throw std::invalid_argument(
+        "epsilon: no default without harmonic 0 (odd_only); give epsilon in N/m");
+  }
+  // Position 0 is harmonic 0 in a full set; its block is K condensed, whatever ω.
+  double sum = 0.0;
+  for (int local : ctx.local_dofs) sum += std::abs(condensation.Z(0)(local, local).real());
+  const double epsilon = sum / static_cast<double>(ctx.local_dofs.size());
+  if (!(epsilon > 0.0) || !std::isfinite(epsilon)) {
+    throw std::invalid_argument(
+        "epsilon: the static stiffness at the contact is zero; give epsilon in N/m");
+  }
+  return epsilon;
+}
+
+double DlftContact::EpsilonFor(const NonlinearityContext& ctx) const {
+  if (epsilon_ > 0.0) return epsilon_;
+  if (!resolved_epsilon_) resolved_epsilon_ = DefaultEpsilon(ctx);
+  return *resolved_epsilon_;
+}
+
+DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
+                                             const Eigen::VectorXd& y, double omega,
+                                             double epsilon) const {
+  const Condensation& condensation = CondensationAt(ctx, omega);
+  const auto x = y.head(condensation.num_unknowns());
+  const double n = geometry_.direction;
+  const int a = ctx.local_dofs[0];
+  // Linear residual rows L = Z_r x − F_r of the contact DOF(s).
+  Eigen::VectorXd linear =
+      condensation.RealOperatorRows(a, false) * x - condensation.RealForcingRows(a, false);
+  if (geometry_.other >= 0) {
+    const int b = ctx.local_dofs[1];
+    linear = 0.5 * (linear - (condensation.RealOperatorRows(b, false) * x -
+                              condensation.RealForcingRows(b, false)));
+  }
+  Prediction p;
+  p.gap = geometry_.GapOf(ctx, y);
+  const Eigen::VectorXd predicted = -n * linear - epsilon * p.gap;
+  const Eigen::VectorXd lambda_x = ctx.fourier->ToTime(predicted).col(0);
+  p.mask = (lambda_x.array() > 0.0).cast<double>();
+  p.state.force = lambda_x.cwiseProduct(p.mask);
+  p.state.force_coefficients = ctx.fourier->ToCoefficients(p.state.force).col(0);
+  p.state.gap = ctx.fourier->ToTime(p.gap).col(0);
+  return p;
+}
+
+void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                           Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                           Eigen::VectorXd* d_omega) const {
+  const double epsilon = EpsilonFor(ctx);
+  const Prediction p = Predict(ctx, y, omega, epsilon);
+  geometry_.AddForce(ctx, p.state.force_coefficients, residual);
+  if (jacobian == nullptr && d_omega == nullptr) return;
+
+  const Condensation& condensation = *ctx.condensation;
+  const int nc = ctx.num_coefficients();
+  const int nx = condensation.num_unknowns();
+  const double n = geometry_.direction;
+  const bool pair = geometry_.other >= 0;
+  const int a = ctx.local_dofs[0];
+  const int b = pair ? ctx.local_dofs[1] : -1;
+  const double share = pair ? 0.5 : 1.0;
+  const Eigen::MatrixXd masked = ctx.fourier->WeightedProduct(p.mask);
+
+  if (jacobian != nullptr) {
+    // ∂λ̃_x/∂x = −n·share·(A_a − A_b) + ε n (S_a − S_b), with S the selection of a DOF.
+    Eigen::MatrixXd dpred = -n * share * condensation.RealOperatorRows(a, false);
+    if (pair) dpred += n * share * condensation.RealOperatorRows(b, false);
+    dpred.middleCols(ctx.DofOffset(0), nc).diagonal().array() += epsilon * n;
+    if (pair) dpred.middleCols(ctx.DofOffset(1), nc).diagonal().array() -= epsilon * n;
+    const Eigen::MatrixXd dforce = masked * dpred;
+    jacobian->block(ctx.DofOffset(0), 0, nc, nx) += n * dforce;
+    if (pair) jacobian->block(ctx.DofOffset(1), 0, nc, nx) -= n * dforce;
+  }
+  if (d_omega != nullptr) {
+    const auto x = y.head(nx);
+    Eigen::VectorXd dlinear =
+        condensation.RealOperatorRows(a, true) * x - condensation.RealForcingRows(a, true);
+    if (pair) {
+      dlinear -= condensation.RealOperatorRows(b, true) * x - condensation.RealForcingRows(b, true);
+    }
+    const Eigen::VectorXd dforce = masked * (-n * share * dlinear);
+    d_omega->segment(ctx.DofOffset(0), nc) += n * dforce;
+    if (pair) d_omega->segment(ctx.DofOffset(1), nc) -= n * dforce;
+  }
+}
+
+std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega,
+                                            const FourierTransform& fine) const {
+  const Prediction p = Predict(ctx, y, omega, EpsilonFor(ctx));
+  std::vector<LawSignal> signals = ContactSignals(p.state, p.gap, fine);
+  if (obstacle_stiffness_ > 0.0) {
+    // The obstacle spring carries the (truncated) contact force: x_obs = n λ / k_obs.
+    signals.push_back({"obstacle", geometry_.direction / obstacle_stiffness_ *
+                                       fine.ToTime(p.state.force_coefficients).col(0)});
+  }
+  return signals;
+}
+
+std::vector<LawSignal> DlftContact::RawSamples(const NonlinearityContext& ctx,
+                                               const Eigen::VectorXd& y, double omega) const {
+  return ContactRawSamples(Predict(ctx, y, omega, EpsilonFor(ctx)).state, *ctx.fourier);
+}
+
+std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext& ctx,
+                                                       const Eigen::VectorXd& y, double omega,
+                                                       const FourierTransform& fine) const {
+  const double epsilon = EpsilonFor(ctx);
+  std::map<std::string, double> diagnostics =
+      ContactDiagnostics(Predict(ctx, y, omega, epsilon).state, fine);
+  diagnostics["epsilon"] = epsilon;
+  return diagnostics;
+}
+
+}  // namespace nfrc

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "core/linear_model.h"
+#include "nonlinearities/contact_geometry.h"
+#include "nonlinearities/nonlinearity.h"
+
+namespace nfrc {
+
+// Unilateral contact by the dynamic Lagrangian frequency–time method (Vadcard, Batailly &
+// Thouverez 2022, Sec. 2.4 and App. A). The unknowns are displacements only. Each
+// evaluation predicts the contact force from the condensed linear equations of the
+// contact DOF, λ̃_x = −n(Z_r x − F_r)_dof − ε g̃, samples it, keeps it where positive
+// (contact) and zeroes it elsewhere (separation), and adds n·λ̃ back. At a solution gap
+// and force satisfy the contact law up to O(1/ε) on the samples.
+//
+// The obstacle is rigid or, with obstacle_stiffness k_obs, a massless spring condensed
+// into relative coordinates (the system's unknown at the DOF is then x − x_obs). With
+// `other`, the contact is between two model DOFs and the prediction uses half the
+// difference of their linear equations, which equals λ at any solution.
+class DlftContact : public Nonlinearity {
+ public:
+  // obstacle_stiffness: N/m, 0 = rigid. epsilon: N/m, 0 = default (DefaultEpsilon).
+  DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon);
+
+  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec,
+                                                const std::string& path, const LinearModel& model);
+
+  std::string type() const override { return "dlft_contact"; }
+  std::vector<int> Dofs() const override { return geometry_.Dofs(); }
+  std::vector<double> ObstacleCompliance() const override;
+  void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                Eigen::VectorXd* d_omega) const override;
+  std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                 double omega, const FourierTransform& fine) const override;
+  std::vector<LawSignal> RawSamples(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                    double omega) const override;
+  std::map<std::string, double> Diagnostics(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega,
+                                            const FourierTransform& fine) const override;
+
+  // The default ε: the static (harmonic 0) condensed relative stiffness at the contact,
+  // averaged over the law's DOFs, which is independent of ω. Throws std::invalid_argument
+  // naming "epsilon" if the harmonic set has no harmonic 0.
+  static double DefaultEpsilon(const NonlinearityContext& ctx);
+
+  // ε in use (the configured one, or the default once resolved by an evaluation; 0 before).
+  double epsilon() const { return epsilon_ > 0.0 ? epsilon_ : resolved_epsilon_.value_or(0.0); }
+  // For ε-refinement: sets ε (N/m, > 0) for later evaluations.
+  void set_epsilon(double epsilon);
+  const ContactGeometry& geometry() const { return geometry_; }
+  double obstacle_stiffness() const { return obstacle_stiffness_; }
+
+ private:
+  struct Prediction {
+    Eigen::VectorXd gap;          // gap coefficients g̃
+    Eigen::VectorXd mask;         // 1 where the sample is in contact (λ_x > 0), else 0
+    ContactState state;
+  };
+  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                     double epsilon) const;
+  double EpsilonFor(const NonlinearityContext& ctx) const;
+
+  ContactGeometry geometry_;
+  double obstacle_stiffness_;
+  double epsilon_;
+  // Default ε, resolved at the first evaluation (it depends only on K and the obstacle).
+  mutable std::optional<double> resolved_epsilon_;
+};
+
+}  // namespace nfrc
