@@ -1,6 +1,7 @@
 #include "tools/branch_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <numbers>
@@ -91,7 +92,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
 
 bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
   const PointMeasures m = analyzer_.Measure(point.y, point.lambda);
-  document_["points"].push_back({{"index", index},
+  nlohmann::json entry = {{"index", index},
                                  {"omega", point.lambda},
                                  {"step", point.step},
                                  {"newton_iterations", point.newton_iterations},
@@ -101,7 +102,9 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
                                  {"max_abs", m.max_abs},
                                  {"h1", m.h1},
                                  {"amplitudes", m.amplitudes},
-                                 {"laws", LawDiagnostics(point.y, point.lambda)}});
+                                 {"laws", LawDiagnostics(point.y, point.lambda)}};
+  AddContactExtremes(entry);
+  document_["points"].push_back(std::move(entry));
   csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations
        << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
@@ -136,24 +139,47 @@ nlohmann::json BranchWriter::LawDiagnostics(const Eigen::VectorXd& y, double ome
   return laws;
 }
 
-void BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y, int after_point,
-                                bool converged, const std::string& note) {
-  const std::string name = "signals_" + std::to_string(num_signals_++) + ".csv";
+namespace {
+
+void WriteCsv(const std::string& path, const std::vector<std::string>& columns,
+              const std::vector<Eigen::VectorXd>& data) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot open for writing");
+  out << std::setprecision(12);
+  for (size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
+  out << "\n";
+  for (Eigen::Index j = 0; j < data.front().size(); ++j) {
+    for (size_t c = 0; c < data.size(); ++c) out << (c ? "," : "") << data[c](j);
+    out << "\n";
+  }
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+Eigen::VectorXd Angles(int num_samples) {
+  Eigen::VectorXd theta(num_samples);
+  for (int j = 0; j < num_samples; ++j) theta(j) = 2.0 * std::numbers::pi * j / num_samples;
+  return theta;
+}
+
+}  // namespace
+
+const nlohmann::json& BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y,
+                                                 int after_point, bool converged,
+                                                 const std::string& note) {
+  const int number = num_signals_++;
+  const std::string name = "signals_" + std::to_string(number) + ".csv";
   const FourierTransform& fine = analyzer_.fine();
-  const int nt = fine.harmonic_set().num_samples();
   std::vector<std::string> columns = {"theta", "t"};
-  std::vector<Eigen::VectorXd> data;
-  Eigen::VectorXd theta(nt);
-  for (int j = 0; j < nt; ++j) theta(j) = 2.0 * std::numbers::pi * j / nt;
-  data.push_back(theta);
-  data.push_back(theta / omega);
+  std::vector<Eigen::VectorXd> data = {Angles(fine.harmonic_set().num_samples())};
+  data.push_back(data[0] / omega);
   const Eigen::MatrixXd& d = system_.fourier().DerivativeMatrix();
+  std::vector<Eigen::VectorXd> coefficients;
   for (size_t i = 0; i < case_.output_dofs.size(); ++i) {
-    const Eigen::VectorXd c = system_.DofCoefficients(y, omega, case_.output_dofs[i]);
+    coefficients.push_back(system_.DofCoefficients(y, omega, case_.output_dofs[i]));
     columns.push_back("x_" + case_.output_names[i]);
-    data.push_back(fine.ToTime(c).col(0));
+    data.push_back(fine.ToTime(coefficients.back()).col(0));
     columns.push_back("v_" + case_.output_names[i]);
-    data.push_back(fine.ToTime(omega * (d * c)).col(0));
+    data.push_back(fine.ToTime(omega * (d * coefficients.back())).col(0));
   }
   for (size_t i = 0; i < system_.laws().size(); ++i) {
     const auto& law = system_.laws()[i];
@@ -162,25 +188,57 @@ void BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y, int afte
       data.push_back(std::move(signal.samples));
     }
   }
-  std::ofstream out(dir_ + "/" + name);
-  if (!out) throw std::runtime_error(dir_ + "/" + name + ": cannot open for writing");
-  out << std::setprecision(12);
-  for (size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
-  out << "\n";
-  for (int j = 0; j < nt; ++j) {
-    for (size_t c = 0; c < data.size(); ++c) out << (c ? "," : "") << data[c](j);
-    out << "\n";
+  WriteCsv(dir_ + "/" + name, columns, data);
+
+  // The laws' own samples (N_t, before truncation), when they have any.
+  std::string samples_name;
+  const FourierTransform& coarse = system_.fourier();
+  std::vector<std::string> raw_columns = {"theta", "t"};
+  std::vector<Eigen::VectorXd> raw = {Angles(coarse.harmonic_set().num_samples())};
+  raw.push_back(raw[0] / omega);
+  for (size_t i = 0; i < case_.output_dofs.size(); ++i) {
+    raw_columns.push_back("x_" + case_.output_names[i]);
+    raw.push_back(coarse.ToTime(coefficients[i]).col(0));
   }
+  const size_t num_fixed = raw.size();
+  for (size_t i = 0; i < system_.laws().size(); ++i) {
+    const auto& law = system_.laws()[i];
+    for (LawSignal& signal : law->RawSamples(system_.context(static_cast<int>(i)), y, omega)) {
+      raw_columns.push_back("law" + std::to_string(i) + "_" + signal.name);
+      raw.push_back(std::move(signal.samples));
+    }
+  }
+  if (raw.size() > num_fixed) {
+    samples_name = "samples_" + std::to_string(number) + ".csv";
+    WriteCsv(dir_ + "/" + samples_name, raw_columns, raw);
+  }
+
   const PointMeasures m = analyzer_.Measure(y, omega);
-  document_["signals"].push_back({{"omega", omega},
-                                  {"file", name},
-                                  {"after_point", after_point},
-                                  {"converged", converged},
-                                  {"note", note},
-                                  {"energy", m.energy},
-                                  {"max_abs", m.max_abs},
-                                  {"h1", m.h1},
-                                  {"laws", LawDiagnostics(y, omega)}});
+  nlohmann::json entry = {{"omega", omega},
+                          {"file", name},
+                          {"after_point", after_point},
+                          {"converged", converged},
+                          {"note", note},
+                          {"energy", m.energy},
+                          {"max_abs", m.max_abs},
+                          {"h1", m.h1},
+                          {"laws", LawDiagnostics(y, omega)}};
+  if (!samples_name.empty()) entry["samples_file"] = samples_name;
+  AddContactExtremes(entry);
+  document_["signals"].push_back(std::move(entry));
+  WriteJson();
+  return document_["signals"].back();
+}
+
+void BranchWriter::AddContactExtremes(nlohmann::json& entry) {
+  double min_gap = INFINITY;
+  double min_force = INFINITY;
+  for (const nlohmann::json& law : entry["laws"]) {
+    if (law.contains("min_gap")) min_gap = std::min(min_gap, law["min_gap"].get<double>());
+    if (law.contains("min_force")) min_force = std::min(min_force, law["min_force"].get<double>());
+  }
+  if (std::isfinite(min_gap)) entry["min_gap"] = min_gap;
+  if (std::isfinite(min_force)) entry["min_force"] = min_force;
 }
 
 void BranchWriter::OnFold(const Fold& fold) {

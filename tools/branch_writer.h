@@ -32,13 +32,19 @@ class BranchWriter : public ContinuationObserver {
   // Writes the final branch.json with the summary.
   void Finish(const ContinuationSummary& summary);
 
+  // Writes the time signals of solution y at ω to DIR/signals_<n>.csv (fine grid) and, if
+  // the laws have raw samples, DIR/samples_<n>.csv (N_t grid), and records them in
+  // branch.json's "signals" with `note`. Returns that record.
+  const nlohmann::json& WriteSignals(double omega, const Eigen::VectorXd& y, int after_point,
+                                     bool converged, const std::string& note);
+
   const nlohmann::json& document() const { return document_; }
 
  private:
   void WriteJson();
-  void WriteSignals(double omega, const Eigen::VectorXd& y, int after_point, bool converged,
-                    const std::string& note);
   nlohmann::json LawDiagnostics(const Eigen::VectorXd& y, double omega);
+  // Contact cases: the smallest min_gap and min_force over the laws, at the entry's top level.
+  static void AddContactExtremes(nlohmann::json& entry);
 
   std::string dir_;
   const Case& case_;

@@ -1,13 +1,17 @@
-// The nfrc command line program: `nfrc run CASE.json --out DIR` and `nfrc plot DIR`.
+// The nfrc command line program: `nfrc run CASE.json --out DIR`, `nfrc refine ...` and
+// `nfrc plot DIR`.
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/input_fields.h"
+#include "tools/epsilon_refinement.h"
 #include "tools/run_case.h"
 #include "tools/version.h"
 
@@ -27,6 +31,10 @@ void OnSignal(int) { g_stop.store(true); }
 constexpr const char* kUsage =
     "usage:\n"
     "  nfrc run CASE.json --out DIR   trace the frequency response of a case\n"
+    "  nfrc refine CASE.json --omega W --out DIR [--epsilon0 E] [--factor F] [--steps N]\n"
+    "              [--epsilons E1,E2,...]\n"
+    "                                 DLFT epsilon refinement at W (default: from the\n"
+    "                                 case's epsilon, factor 2, 15 steps), warm-started\n"
     "  nfrc plot DIR                  draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
     "  nfrc --version\n";
 
@@ -63,6 +71,85 @@ int Run(const std::vector<std::string>& args) {
   return complete ? kExitOk : kExitRunIncomplete;
 }
 
+// Parses a number of option `name`; throws InputError naming it.
+double NumberOption(const std::string& name, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  throw nfrc::InputError(name + ": not a number: \"" + text + "\"");
+}
+
+int Refine(const std::vector<std::string>& args) {
+  std::string case_path;
+  std::string out_dir;
+  std::optional<double> omega;
+  std::optional<double> epsilon0;
+  double factor = 2.0;
+  int steps = 15;
+  std::vector<double> list;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    const bool has_value = i + 1 < args.size();
+    if (arg == "--out" && has_value) {
+      out_dir = args[++i];
+    } else if (arg == "--omega" && has_value) {
+      omega = NumberOption("--omega", args[++i]);
+    } else if (arg == "--epsilon0" && has_value) {
+      epsilon0 = NumberOption("--epsilon0", args[++i]);
+    } else if (arg == "--factor" && has_value) {
+      factor = NumberOption("--factor", args[++i]);
+    } else if (arg == "--steps" && has_value) {
+      steps = static_cast<int>(NumberOption("--steps", args[++i]));
+    } else if (arg == "--epsilons" && has_value) {
+      std::stringstream items(args[++i]);
+      for (std::string item; std::getline(items, item, ',');) {
+        list.push_back(NumberOption("--epsilons", item));
+      }
+    } else if (!arg.empty() && arg[0] == '-') {
+      std::cerr << "nfrc refine: unknown option or missing value: " << arg << "\n" << kUsage;
+      return kExitUsage;
+    } else if (case_path.empty()) {
+      case_path = arg;
+    } else {
+      std::cerr << "nfrc refine: more than one case file given\n" << kUsage;
+      return kExitUsage;
+    }
+  }
+  if (case_path.empty() || out_dir.empty() || !omega) {
+    std::cerr << "nfrc refine: needs a case file, --omega and --out DIR\n" << kUsage;
+    return kExitUsage;
+  }
+  nfrc::Case the_case = nfrc::LoadCase(case_path);
+  nfrc::RefinementOptions options;
+  options.omega = *omega;
+  if (!list.empty()) {
+    options.epsilons = list;
+  } else {
+    if (!epsilon0) {
+      for (const nlohmann::json& law : the_case.source["nonlinearities"]) {
+        if (law.value("type", "") == "dlft_contact" && law.contains("epsilon")) {
+          epsilon0 = law["epsilon"].get<double>();
+        }
+      }
+    }
+    if (!epsilon0) {
+      std::cerr << "nfrc refine: give --epsilon0 or --epsilons (the case sets no epsilon)\n";
+      return kExitUsage;
+    }
+    options.epsilons = nfrc::GeometricEpsilons(*epsilon0, factor, steps);
+  }
+  const nlohmann::json result = nfrc::RefineEpsilon(the_case, options, out_dir, &std::cerr);
+  const auto& done = result["steps"];
+  const bool complete = done.size() == options.epsilons.size() &&
+                        (done.empty() || done.back()["converged"].get<bool>());
+  std::cerr << "nfrc: " << done.size() << " of " << options.epsilons.size()
+            << " refinement steps, wrote " << out_dir << "/refinement.json\n";
+  return complete ? kExitOk : kExitRunIncomplete;
+}
+
 int Plot(const std::vector<std::string>& args) {
   if (args.empty()) {
     std::cerr << "nfrc plot: needs an output directory\n" << kUsage;
@@ -94,6 +181,7 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   try {
     if (command == "run") return Run(args);
+    if (command == "refine") return Refine(args);
     if (command == "plot") return Plot(args);
     std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
     return kExitUsage;
