@@ -100,6 +100,8 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
                                  {"tangent_omega", point.tangent_lambda},
                                  {"energy", m.energy},
                                  {"max_abs", m.max_abs},
+                                 {"min", m.min},
+                                 {"max", m.max},
                                  {"h1", m.h1},
                                  {"amplitudes", m.amplitudes},
                                  {"laws", LawDiagnostics(point.y, point.lambda)}};
@@ -221,6 +223,8 @@ const nlohmann::json& BranchWriter::WriteSignals(double omega, const Eigen::Vect
                           {"note", note},
                           {"energy", m.energy},
                           {"max_abs", m.max_abs},
+                          {"min", m.min},
+                          {"max", m.max},
                           {"h1", m.h1},
                           {"laws", LawDiagnostics(y, omega)}};
   if (!samples_name.empty()) entry["samples_file"] = samples_name;
@@ -246,6 +250,8 @@ void BranchWriter::OnFold(const Fold& fold) {
   document_["folds"].push_back({{"omega", fold.lambda},
                                 {"energy", m.energy},
                                 {"max_abs", m.max_abs},
+                                {"min", m.min},
+                                {"max", m.max},
                                 {"h1", m.h1},
                                 {"after_point", fold.after_point},
                                 {"omega_accuracy", fold.lambda_accuracy},

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Draws frequency response curves from nfrc output directories (branch.json).
 
-usage: plot_frc.py DIR [DIR ...] [--measure max_abs|h1] [--logy] [--output PATH_WITHOUT_EXT]
+usage: plot_frc.py DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output PATH_WITHOUT_EXT]
        [--labels A,B,...] [--title TEXT]
 
 One directory: writes DIR/frc.png and DIR/frc.svg. Several: overlays them and writes to
@@ -26,7 +26,7 @@ def load(directory):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dirs", nargs="+")
-    parser.add_argument("--measure", default="max_abs", choices=["max_abs", "h1", "energy"])
+    parser.add_argument("--measure", default="max_abs", choices=["max_abs", "min", "max", "h1", "energy"])
     parser.add_argument("--xlim", help="omega range to show, as MIN,MAX")
     parser.add_argument("--logy", action="store_true")
     parser.add_argument("--output")
@@ -63,6 +63,7 @@ def main():
                           label="folds" if i == 0 and d == 0 else None)
     axes.set_xlabel(r"excitation frequency $\omega$")
     axes.set_ylabel({"max_abs": r"max$_t\,|x(t)|$", "h1": "first-harmonic amplitude",
+                     "min": r"min$_t\,x(t)$", "max": r"max$_t\,x(t)$",
                      "energy": "mean total energy over a period"}[args.measure])
     if args.xlim:
         axes.set_xlim(*[float(v) for v in args.xlim.split(",")])

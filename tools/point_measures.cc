@@ -37,7 +37,10 @@ PointMeasures PointAnalyzer::Measure(const Eigen::VectorXd& y, double omega) {
                     MeanQuadraticForm(system_.model().stiffness, x, set);
   for (int dof : output_dofs_) {
     const Eigen::VectorXd c = system_.DofCoefficients(y, omega, dof);
-    measures.max_abs.push_back(fine_.ToTime(c).cwiseAbs().maxCoeff());
+    const Eigen::VectorXd samples = fine_.ToTime(c).col(0);
+    measures.max_abs.push_back(samples.cwiseAbs().maxCoeff());
+    measures.min.push_back(samples.minCoeff());
+    measures.max.push_back(samples.maxCoeff());
     std::vector<double> amplitudes;
     double h1 = 0.0;
     for (int p = 0; p < set.num_harmonics(); ++p) {

@@ -12,6 +12,8 @@ namespace nfrc {
 // Response measures of one HBM solution, per output DOF.
 struct PointMeasures {
   std::vector<double> max_abs;  // max_t |x(t)| over the period (finely resampled)
+  std::vector<double> min;      // min_t x(t) and max_t x(t) (signed, same sampling): for a
+  std::vector<double> max;      // rigid stop max x is g0 on the exact solution
   std::vector<double> h1;       // first-harmonic amplitude √(a_1² + b_1²)
   std::vector<std::vector<double>> amplitudes;  // √(a_k² + b_k²) per harmonic of the set
   // Period mean of the total energy ½ẋᵀMẋ + ½xᵀKx over all DOFs, exact from the

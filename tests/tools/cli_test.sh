@@ -35,6 +35,27 @@ for f in branch.json branch.csv; do
 done
 grep -q "omega=" "$work/err" || { echo "FAIL progress lines missing on stderr"; failures=$((failures + 1)); }
 
+# Contact: the rigid rod case runs as written; refine validates its input.
+expect "rigid rod run" 0 "reached_lambda_bound" -- \
+  "$nfrc" run "$src/cases/rod/rigid_nh20.json" --out "$work/rigid"
+grep -q '"min_gap"' "$work/rigid/branch.json" ||
+  { echo "FAIL rigid rod: points lack min_gap"; failures=$((failures + 1)); }
+expect "refine without omega" 2 "needs a case file, --omega and --out DIR" -- \
+  "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --out "$work/r"
+expect "refine omega outside range" 1 "omega: must lie in the case's range" -- \
+  "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 1e6 --epsilon0 1e9 --out "$work/r"
+expect "refine bad epsilon" 1 "--epsilons: not a number" -- \
+  "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 6e4 --epsilons 1e9,abc --out "$work/r"
+expect "refine without dlft" 1 "refinement needs a dlft_contact law" -- \
+  "$nfrc" refine "$src/cases/duffing.json" --omega 1.2 --epsilons 1 --out "$work/r"
+expect "refine" 0 "3 of 3 refinement steps" -- \
+  "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 63953 --epsilons 1e9,2e9,4e9 --out "$work/r"
+for f in refinement.json samples_0.csv signals_2.csv; do
+  [ -s "$work/r/$f" ] || { echo "FAIL refine: $f missing"; failures=$((failures + 1)); }
+done
+expect "contact bad field" 1 "nonlinearities[0].obstacle_stiffness: must be finite and > 0" -- \
+  "$nfrc" run "$src/tests/tools/data/bad_obstacle.json" --out "$work/o"
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures CLI check(s) failed"
   exit 1
