@@ -18,11 +18,12 @@ namespace nfrc {
 class Condensation {
  public:
   enum class Method {
-    kAuto,    // dense below kDenseLimit DOFs, sparse above
+    kAuto,    // dense below kDenseLimit DOFs or above kDenseFill fill of Z_ll, else sparse
     kDense,   // dense LU per harmonic
     kSparse,  // SuiteSparse sparse LU per harmonic (KLU, or UMFPACK if fill is heavy)
   };
-  static constexpr int kDenseLimit = 400;
+  static constexpr int kDenseLimit = 64;
+  static constexpr double kDenseFill = 0.2;
 
   // Throws std::invalid_argument if a retained DOF or a forcing DOF is out of range or
   // repeated in `retained`, or a forcing harmonic is not in `set`.

@@ -70,7 +70,8 @@ void DlftContact::set_epsilon(double epsilon) {
   epsilon_ = epsilon;
 }
 
-double DlftContact::DefaultEpsilon(const NonlinearityContext& ctx) {
+double DlftContact::DefaultEpsilon(const NonlinearityContext& ctx) const {
+  if (obstacle_stiffness_ > 0.0) return obstacle_stiffness_;
   const Condensation& condensation = *ctx.condensation;
   if (!condensation.harmonic_set().has_constant()) {
     throw std::invalid_argument(

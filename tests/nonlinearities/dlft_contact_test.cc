@@ -2,9 +2,15 @@
 
 #include <doctest/doctest.h>
 
+#include <complex>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "core/input_fields.h"
 #include "nonlinearities/jacobian_check.h"
+#include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
@@ -120,6 +126,314 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
       CHECK(r.omega_error < kFdTolerance);
     }
   }
+}
+
+
+// ---------------------------------------------------------------------------------------
+// Case-file errors.
+
+LinearModel NamedTwoDofModel() {
+  LinearModel model;
+  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
+  model.stiffness = Eigen::MatrixXd::Identity(2, 2).sparseView();
+  model.damping = Eigen::MatrixXd::Zero(2, 2).sparseView();
+  model.dof_names = {"a", "b"};
+  return model;
+}
+
+// The error message of MakeNonlinearity for `text`, or "no error".
+std::string ErrorOf(const std::string& text) {
+  try {
+    MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", NamedTwoDofModel());
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+// True if `message` starts by naming `field` of the law ("nonlinearities[0].<field>: ").
+bool Names(const std::string& message, const std::string& field) {
+  return message.rfind("nonlinearities[0]." + field + ": ", 0) == 0;
+}
+
+TEST_CASE("DLFT contact: case-file errors name the field") {
+  // Valid forms, so each error below is due to the one field changed.
+  const LinearModel model = NamedTwoDofModel();
+  auto law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "dlft_contact", "dof": "b",
+      "gap": 0.1, "obstacle_stiffness": 50, "epsilon": 20})"),
+                              "nonlinearities[0]", model);
+  CHECK(law->type() == "dlft_contact");
+  CHECK(law->Dofs() == std::vector<int>{1});
+  CHECK(law->ObstacleCompliance() == std::vector<double>{1.0 / 50});
+  const auto& dlft = dynamic_cast<const DlftContact&>(*law);
+  CHECK(dlft.epsilon() == 20.0);
+  CHECK(dlft.obstacle_stiffness() == 50.0);
+  law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "dlft_contact", "dof": 0, "other": 1,
+      "direction": -1, "gap": {"constant": 0.1, "harmonics": [{"harmonic": 3, "sin": 0.01}]}})"),
+                         "nonlinearities[0]", model);
+  CHECK(law->Dofs() == std::vector<int>{0, 1});
+  CHECK(law->ObstacleCompliance().empty());  // rigid
+  CHECK(dynamic_cast<const DlftContact&>(*law).epsilon() == 0.0);  // default, unresolved
+
+  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "other": 1, "gap": 0.1,
+                    "obstacle_stiffness": 50})")
+            .find("nonlinearities[0].obstacle_stiffness: not allowed with other") == 0);
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": 0})"),
+              "obstacle_stiffness"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": -1})"),
+              "obstacle_stiffness"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": 0})"),
+              "epsilon"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": -3})"),
+              "epsilon"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": "big"})"),
+              "epsilon"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 0})"),
+              "direction"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 2})"),
+              "direction"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0,
+                          "gap": {"harmonics": [{"harmonic": 0, "cos": 0.1}]}})"),
+              "gap.harmonics[0].harmonic"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0,
+                          "gap": {"harmonics": [{"cos": 0.1}]}})"),
+              "gap.harmonics[0].harmonic"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": {"harmonics": 1}})"),
+              "gap.harmonics"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": [0.1]})"), "gap"));
+  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0})") ==
+        "nonlinearities[0].gap: missing (required)");
+  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "stiffness": 100})") ==
+        "nonlinearities[0].stiffness: unknown key");
+  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "eps": 100})") ==
+        "nonlinearities[0].eps: unknown key");
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "other": 0, "gap": 0.1})"), "other"));
+  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": "z", "gap": 0.1})"), "dof"));
+  // Constructor checks for programmatic use.
+  ContactGeometry pair;
+  pair.dof = 0;
+  pair.other = 1;
+  CHECK_THROWS_AS(DlftContact(pair, 10.0, 0.0), std::invalid_argument);
+  ContactGeometry grounded;
+  grounded.dof = 0;
+  CHECK_THROWS_AS(DlftContact(grounded, -1.0, 0.0), std::invalid_argument);
+  CHECK_THROWS_AS(DlftContact(grounded, 0.0, -1.0), std::invalid_argument);
+  DlftContact refinable(grounded, 0.0, 5.0);
+  CHECK_THROWS_AS(refinable.set_epsilon(0.0), std::invalid_argument);
+  refinable.set_epsilon(40.0);
+  CHECK(refinable.epsilon() == 40.0);
+}
+
+// ---------------------------------------------------------------------------------------
+// Solutions at fixed ω of NLvib's two-DOF oscillator against a rigid obstacle.
+
+// M = I, K = [[1, −1], [−1, 2]], C = 0.03 K, f_1 = 0.1 cos ωt; contact at DOF 0.
+LinearModel NlvibTwoDof() {
+  Eigen::MatrixXd k(2, 2);
+  k << 1.0, -1.0, -1.0, 2.0;
+  LinearModel model;
+  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
+  model.stiffness = k.sparseView();
+  model.damping = (0.03 * k).sparseView();
+  return model;
+}
+
+struct NewtonResult {
+  Eigen::VectorXd y;
+  Eigen::VectorXd residual;
+  bool converged = false;
+  int iterations = 0;
+};
+
+// Semi-smooth Newton with backtracking on ‖R‖ for R(y) = A y − b + law(y), A and b the real
+// condensed operator and forcing at the condensation's ω, from `guess`.
+NewtonResult SolveAtOmega(const Nonlinearity& law, const NonlinearityContext& ctx,
+                          const Condensation& condensation, const Eigen::VectorXd& guess,
+                          double tolerance) {
+  const double omega = condensation.omega();
+  const Eigen::MatrixXd a = condensation.RealOperator();
+  const Eigen::VectorXd b = condensation.RealForcing();
+  auto residual_of = [&](const Eigen::VectorXd& y, Eigen::MatrixXd* jacobian) {
+    Eigen::VectorXd r = a * y - b;
+    if (jacobian != nullptr) *jacobian = a;
+    law.Evaluate(ctx, y, omega, r, jacobian, nullptr);
+    return r;
+  };
+  NewtonResult result;
+  result.y = guess;
+  for (; result.iterations < 50; ++result.iterations) {
+    Eigen::MatrixXd jacobian;
+    result.residual = residual_of(result.y, &jacobian);
+    const double norm = result.residual.norm();
+    if (norm <= tolerance * b.norm()) {
+      result.converged = true;
+      return result;
+    }
+    const Eigen::VectorXd step = jacobian.partialPivLu().solve(-result.residual);
+    double t = 1.0;
+    for (int halving = 0; halving < 30; ++halving, t *= 0.5) {
+      if (residual_of(result.y + t * step, nullptr).norm() < (1.0 - 1e-4 * t) * norm) break;
+    }
+    result.y += t * step;
+  }
+  result.residual = residual_of(result.y, nullptr);
+  return result;
+}
+
+// Newton stops at ‖R‖ ≤ 1e-12 ‖F‖: far below the contact-law and truncation effects
+// measured here (≥ 1e-6), while reachable in double precision for these O(10) systems.
+constexpr double kNewtonTolerance = 1e-12;
+
+// The solution at `omega` reached by natural continuation from ω = 0.5, where the linear
+// response (|x_0| ≈ 0.34) is clear of the obstacle, in steps of 0.01: NLvib's curve has no
+// fold on its upper branch between 0.5 and its peak at ω ≈ 0.75, and a cold Newton start
+// from the linear response at `omega` (|x_0| ≈ 2 ≫ the gap) does not converge.
+NewtonResult SolveByContinuation(const Nonlinearity& law, const NonlinearityContext& ctx,
+                                 Condensation& condensation, double omega) {
+  constexpr double kStart = 0.5;
+  condensation.Update(kStart);
+  NewtonResult result;
+  result.y = condensation.RealOperator().partialPivLu().solve(condensation.RealForcing());
+  const int steps = static_cast<int>(std::lround((omega - kStart) / 0.01));
+  for (int i = 0; i <= steps; ++i) {
+    condensation.Update(i == steps ? omega : kStart + 0.01 * i);
+    result = SolveAtOmega(law, ctx, condensation, result.y, kNewtonTolerance);
+    if (!result.converged) break;
+  }
+  return result;
+}
+
+// Two harmonic sets: the contact is a hard impact, so N_h matters for the truncation error.
+struct SolvedContact {
+  std::vector<LawSignal> raw;  // gap, force_raw, force
+  Eigen::VectorXd contact_residual;
+  Eigen::VectorXd y;
+};
+
+TEST_CASE("DLFT contact: at a solution gap and force satisfy the contact law up to truncation/ε") {
+  // At a solution the residual rows R of the contact DOF satisfy L + n·T(λ) = R, with L the
+  // linear rows and T(λ) the truncated corrected force, so the prediction on sample j is
+  //   λ̃_j = T(λ)_j − n R_j − ε g_j.
+  // Contact samples (λ_j = λ̃_j > 0) thus have ε g_j = T(λ)_j − λ_j − n R_j, and separated
+  // ones (λ̃_j ≤ 0) have ε g_j ≥ T(λ)_j − n R_j. With τ = max_j |T(λ)_j − λ_j| (the force's
+  // truncation error, measured) and ρ = Σ|R coefficients| ≥ |R_j|, the contact law holds as
+  //   λ ≥ 0,   g ≥ −(τ + ρ)/ε,   |g| ≤ (τ + ρ)/ε where λ > 0,
+  // i.e. DLFT penetrates by at most the truncation error over ε (Vadcard et al. 2022, §2.4).
+  const LinearModel model = NlvibTwoDof();
+  const double omega = 0.6;  // the linear response (|x_0| ≈ 2) would cross the gap of 1
+  for (const auto& [max_harmonic, epsilon] :
+       std::vector<std::pair<int, double>>{{10, 10.0}, {21, 10.0}, {21, 1000.0}}) {
+    CAPTURE(max_harmonic);
+    CAPTURE(epsilon);
+    const HarmonicSet set(max_harmonic, false);
+    const FourierTransform fourier(set);
+    Condensation condensation(model, {0, 1}, set, {ForcingTerm{1, 1, 0.1, 0.0}});
+    ContactGeometry geometry;
+    geometry.dof = 0;
+    geometry.gap = 1.0;
+    const DlftContact law(geometry, 0.0, epsilon);
+    NonlinearityContext ctx;
+    ctx.fourier = &fourier;
+    ctx.condensation = &condensation;
+    ctx.local_dofs = {0};
+    const NewtonResult solved = SolveByContinuation(law, ctx, condensation, omega);
+    REQUIRE(solved.converged);
+    CAPTURE(solved.iterations);
+
+    const std::vector<LawSignal> raw = law.RawSamples(ctx, solved.y, omega);
+    const Eigen::VectorXd& gap = raw[0].samples;
+    const Eigen::VectorXd& force = raw[1].samples;
+    const Eigen::VectorXd& truncated = raw[2].samples;
+    const int nc = set.NumCoefficients();
+    const double tau = (truncated - force).cwiseAbs().maxCoeff();
+    const double rho = solved.residual.head(nc).cwiseAbs().sum();
+    // Rounding in forming g and λ̃ (‖λ̃‖ ~ ε·1 m): 1e-12 m for these magnitudes.
+    const double bound = (tau + rho) / epsilon + 1e-12;
+    int in_contact = 0;
+    double penetration = 0.0;
+    double complementarity = 0.0;
+    for (Eigen::Index j = 0; j < gap.size(); ++j) {
+      CHECK(force(j) >= 0.0);
+      penetration = std::max(penetration, -gap(j));
+      if (force(j) > 0.0) {
+        ++in_contact;
+        CHECK(std::abs(gap(j)) <= bound);
+        complementarity = std::max(complementarity, std::abs(force(j) * gap(j)));
+      } else {
+        CHECK(gap(j) >= -bound);
+      }
+    }
+    MESSAGE("N_h = " << max_harmonic << ", eps = " << epsilon << ": contact on " << in_contact
+                     << "/" << gap.size() << " samples, truncation tau = " << tau
+                     << " N, bound (tau + rho)/eps = " << bound << " m, max penetration "
+                     << penetration << " m, max |lambda g| " << complementarity
+                     << ", newton " << solved.iterations);
+    // A genuinely nonsmooth state: both contact and separation within the period.
+    CHECK(in_contact > 0);
+    CHECK(in_contact < gap.size());
+    // The bound is a small fraction of the 1 m gap, so the check above has teeth.
+    CHECK(bound < 0.05);
+  }
+}
+
+TEST_CASE("DLFT contact: a time-varying gap equals the constant-gap problem in shifted coordinates") {
+  // With g0(θ) = g + s(θ), s = a cos θ + b sin θ, the gap is g − (x_0 − s): x solves the
+  // problem with g0(θ) iff x' = x − s e_0 solves the constant-gap problem with forcing
+  // F − Z s e_0 (harmonic 1, every DOF). The DLFT prediction −n(Z x − F) − ε g is the same
+  // expression in both, so the two solves must agree to the Newton tolerance; a wrong sign
+  // or phase of the gap's harmonic would shift the response by O(s) = O(0.1 m).
+  const LinearModel model = NlvibTwoDof();
+  const HarmonicSet set(15, false);
+  const FourierTransform fourier(set);
+  const double omega = 0.6;
+  const double s_cos = 0.2, s_sin = -0.15;
+  // Z_k(ω) s e_0 for k = 1, complex amplitude S = a − i b.
+  const std::complex<double> s(s_cos, -s_sin);
+  const Eigen::MatrixXd k = Eigen::MatrixXd(model.stiffness);
+  const Eigen::MatrixXd c = Eigen::MatrixXd(model.damping);
+  std::vector<ForcingTerm> shifted_forcing = {ForcingTerm{1, 1, 0.1, 0.0}};
+  for (int dof = 0; dof < 2; ++dof) {
+    const std::complex<double> z(k(dof, 0) - omega * omega * (dof == 0 ? 1.0 : 0.0),
+                                 omega * c(dof, 0));
+    const std::complex<double> minus_zs = -z * s;
+    // F = f_cos − i f_sin.
+    shifted_forcing.push_back(ForcingTerm{dof, 1, minus_zs.real(), -minus_zs.imag()});
+  }
+  struct Problem {
+    std::vector<ForcingTerm> forcing;
+    bool varying;
+  };
+  Eigen::VectorXd solutions[2];
+  const Problem problems[2] = {{{ForcingTerm{1, 1, 0.1, 0.0}}, true}, {shifted_forcing, false}};
+  for (int i = 0; i < 2; ++i) {
+    Condensation condensation(model, {0, 1}, set, problems[i].forcing);
+    ContactGeometry geometry;
+    geometry.dof = 0;
+    geometry.gap = 1.0;
+    if (problems[i].varying) geometry.gap_harmonics = {{1, s_cos, s_sin}};
+    const DlftContact law(geometry, 0.0, 50.0);
+    NonlinearityContext ctx;
+    ctx.fourier = &fourier;
+    ctx.condensation = &condensation;
+    ctx.local_dofs = {0};
+    const NewtonResult solved = SolveByContinuation(law, ctx, condensation, omega);
+    REQUIRE(solved.converged);
+    solutions[i] = solved.y;
+    // The contact is active, so the comparison involves the law and not only the linear part.
+    const std::vector<LawSignal> raw = law.RawSamples(ctx, solved.y, omega);
+    CHECK(raw[1].samples.maxCoeff() > 0.01);
+  }
+  Eigen::VectorXd expected = solutions[1];
+  expected(set.CosIndex(1)) += s_cos;
+  expected(set.SinIndex(1)) += s_sin;
+  // Both are Newton solutions to ‖R‖ ≤ 1e-12‖F‖ of equations whose Jacobian has O(100)
+  // condition here (ε = 50 against unit stiffness): agreement to 1e-9 of the 1 m scale.
+  constexpr double kShiftTolerance = 1e-9;
+  const double difference = (solutions[0] - expected).cwiseAbs().maxCoeff();
+  MESSAGE("time-varying vs shifted constant gap: max coefficient difference " << difference);
+  CHECK(difference < kShiftTolerance);
+  // And the shift matters: the unshifted constant-gap solution is far off.
+  CHECK((solutions[0] - solutions[1]).cwiseAbs().maxCoeff() > 0.1);
 }
 
 }  // namespace
