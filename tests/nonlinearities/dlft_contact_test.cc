@@ -303,13 +303,6 @@ NewtonResult SolveByContinuation(const Nonlinearity& law, const NonlinearityCont
   return result;
 }
 
-// Two harmonic sets: the contact is a hard impact, so N_h matters for the truncation error.
-struct SolvedContact {
-  std::vector<LawSignal> raw;  // gap, force_raw, force
-  Eigen::VectorXd contact_residual;
-  Eigen::VectorXd y;
-};
-
 TEST_CASE("DLFT contact: at a solution gap and force satisfy the contact law up to truncation/ε") {
   // At a solution the residual rows R of the contact DOF satisfy L + n·T(λ) = R, with L the
   // linear rows and T(λ) the truncated corrected force, so the prediction on sample j is
