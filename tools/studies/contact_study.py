@@ -17,18 +17,14 @@ A case that does not reach the end of its range, or a refinement that stops befo
 epsilon, is named on stderr and in the markdown with the command that reproduces it; a run that
 does not reach the end of its range makes the exit status 1.
 """
-import argparse
 import concurrent.futures
 import csv
-import json
 import math
 import os
-import subprocess
 import sys
 import time
 
 sys.dont_write_bytecode = True  # keep tools/ free of __pycache__
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import matplotlib  # noqa: E402
 
@@ -36,8 +32,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-DPI = 130
-MAX_FIGURE_BYTES = 300_000
+from study_common import (REPO, execute, fmt, load, parse_arguments, save, table,  # noqa: E402
+                          termination, value_at)
 
 # ----------------------------------------------------------------------------- the study
 
@@ -93,18 +89,6 @@ EPS_COLOURS = {1e8: "tab:blue", 1e9: "tab:orange", 1e10: "tab:green", 1e11: "tab
 
 # ----------------------------------------------------------------------------- runs
 
-def load(out, name, what="branch.json"):
-    try:
-        with open(os.path.join(out, name, what)) as handle:
-            return json.load(handle)
-    except (OSError, json.JSONDecodeError):
-        return None
-
-
-def termination(document):
-    return document.get("summary", {}).get("termination", "missing") if document else "missing"
-
-
 def eps_list(epsilons):
     return ",".join(f"{e:.6g}" for e in epsilons)
 
@@ -122,14 +106,6 @@ def shown(command):
     """A command as typed from the repository root."""
     parts = [os.path.relpath(p, REPO) if os.path.isabs(p) else p for p in command]
     return " ".join(parts)
-
-
-def execute(command, directory):
-    os.makedirs(directory, exist_ok=True)
-    started = time.monotonic()
-    with open(os.path.join(directory, "nfrc.log"), "w") as log:
-        code = subprocess.call(command, stdout=log, stderr=log)
-    return code, time.monotonic() - started
 
 
 def run_one(nfrc, out, name, case, force):
@@ -197,15 +173,6 @@ def short_refinements(out, nfrc):
 
 # ----------------------------------------------------------------------------- helpers
 
-def save(figure, path):
-    figure.savefig(path, dpi=DPI)
-    plt.close(figure)
-    size = os.path.getsize(path)
-    if size > MAX_FIGURE_BYTES:
-        print(f"contact_study: warning: {path} is {size // 1000} kB (> 300 kB)")
-    return path
-
-
 def rod_omega0(rho, elements=ROD["elements"]):
     """First eigenfrequency of the clamped rod with consistent linear elements (rad/s)."""
     n = elements
@@ -226,16 +193,6 @@ def curve(document, key="max_abs", dof=0):
     return (np.array([p["omega"] for p in points]), np.array([p[key][dof] for p in points]))
 
 
-def value_at(omega, values, target):
-    """Linear interpolation at the first crossing of target along the branch."""
-    for i in range(len(omega) - 1):
-        lo, hi = omega[i], omega[i + 1]
-        if (lo - target) * (hi - target) <= 0.0 and lo != hi:
-            t = (target - lo) / (hi - lo)
-            return values[i] + t * (values[i + 1] - values[i])
-    return float("nan")
-
-
 def fold_summary(document):
     """Rightmost fold (where the nonlinear branch turns back: the jump down on a sweep up),
     leftmost fold (where the overhanging branch rejoins the low-amplitude one) and the
@@ -249,22 +206,10 @@ def fold_summary(document):
     return {"right": right, "left": left, "micro": micro, "all": folds}
 
 
-def fmt(value, digits=4):
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "—"
-    return f"{value:.{digits}g}"
-
-
 def sci(value, digits=3):
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "—"
     return f"{value:.{digits}e}".replace("e-0", "e-").replace("e+0", "e+").replace("e+", "e")
-
-
-def table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
-    return "\n".join(lines)
 
 
 def read_csv(path):
@@ -387,7 +332,7 @@ def figure17(out, figures):
     figure.suptitle("FE rod against a flexible obstacle, $N_h$ = 20, $N_t$ = 400, ρ = 7500 "
                     "(cf. Vadcard et al. 2022, Fig. 17)", fontsize=10.5)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig17_flexible_nfrc.png"))
+    return save(figure, os.path.join(figures, "fig17_flexible_nfrc.png"), "contact")
 
 
 def figure18(out, figures):
@@ -439,7 +384,7 @@ def figure18(out, figures):
     figure.suptitle("FE rod against a rigid obstacle, $N_h$ = 20/30/40, $N_t$ = 400, ρ = 7500 "
                     "(cf. Vadcard et al. 2022, Fig. 18)", fontsize=10.5)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig18_rigid_nfrc.png"))
+    return save(figure, os.path.join(figures, "fig18_rigid_nfrc.png"), "contact")
 
 
 def figure_signals(out, figures):
@@ -531,7 +476,7 @@ def figure_signals(out, figures):
                     f"$N_h$ = 20, $N_t$ = 400, default ε = {entry['laws'][0]['epsilon']:.4g} N/m "
                     "(cf. Vadcard et al. 2022, Figs. 11-14)", fontsize=10.5)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig11_14_signals_4krod.png")), entry
+    return save(figure, os.path.join(figures, "fig11_14_signals_4krod.png"), "contact"), entry
 
 
 def figure_epsilon_curves(out, figures):
@@ -572,7 +517,7 @@ def figure_epsilon_curves(out, figures):
                     "the refinement ε$_i$ = 2ε$_{i-1}$ from 10$^{11}$, warm-started)",
                     fontsize=10)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig20_epsilon_penetration.png"))
+    return save(figure, os.path.join(figures, "fig20_epsilon_penetration.png"), "contact")
 
 
 def figure_epsilon_laws(out, figures):
@@ -635,7 +580,7 @@ def figure_epsilon_laws(out, figures):
                     "$N_h$ = 20, $N_t$ = 400 (cf. Vadcard et al. 2022, Figs. 19-20)",
                     fontsize=10.5)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig19_20_epsilon_laws.png"))
+    return save(figure, os.path.join(figures, "fig19_20_epsilon_laws.png"), "contact")
 
 
 def nlvib_peak(document):
@@ -685,23 +630,13 @@ def figure_nlvib(out, figures):
     figure.suptitle("NLvib's 2-DOF oscillator with a unilateral spring (k = 100, gap 1 on "
                     "DOF 1): penalty vs DLFT with a flexible obstacle", fontsize=10.5)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "nlvib_unilateral_frc.png"))
+    return save(figure, os.path.join(figures, "nlvib_unilateral_frc.png"), "contact")
 
 
 # ----------------------------------------------------------------------------- main
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--nfrc", default=os.path.join(REPO, "build", "nfrc"))
-    parser.add_argument("--out", default=os.path.join(REPO, "out", "contact"))
-    parser.add_argument("--force", action="store_true", help="rerun finished runs too")
-    parser.add_argument("--jobs", type=int, default=1,
-                        help="runs in parallel (default 1; >1 distorts the timing table)")
-    parser.add_argument("--figures", default=os.path.join(REPO, "docs", "figures", "contact"))
-    parser.add_argument("--markdown", default=os.path.join(REPO, "docs", "contact_results.md"))
-    args = parser.parse_args()
-    if not os.access(args.nfrc, os.X_OK):
-        sys.exit(f"contact_study: {args.nfrc} is not an executable (build nfrc, or --nfrc)")
+    args = parse_arguments("contact", __doc__.splitlines()[0])
     started = time.monotonic()
     load_average = os.getloadavg()
     out = os.path.abspath(args.out)

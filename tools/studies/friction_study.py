@@ -14,18 +14,14 @@ Defaults: --nfrc build/nfrc, --out out/friction, both relative to the repository
 A case that does not reach the end of its range is named on stderr with its termination and
 message, drawn as far as it got, and makes the exit status 1.
 """
-import argparse
 import concurrent.futures
-import json
 import math
 import os
-import subprocess
 import sys
 import time
 
 sys.dont_write_bytecode = True  # keep tools/ free of __pycache__
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(REPO, "tools"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 import matplotlib  # noqa: E402
 
@@ -35,10 +31,10 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 import plot_signals  # noqa: E402
+from study_common import (DPI, REPO, execute, load, parse_arguments, save, table,  # noqa: E402
+                          termination, value_at)
 
 CASES = "cases/friction"
-DPI = 130
-MAX_FIGURE_BYTES = 300_000
 
 # (run name = case file stem, group)
 FRC_LOADS = [("frc_n8", 8.0), ("frc_n9", 9.0), ("frc_n10", 10.0), ("frc_n10_5", 10.5),
@@ -83,34 +79,14 @@ LOAD_COLOURS = {8.0: "tab:blue", 9.0: "tab:orange", 10.0: "tab:green", 10.5: "ta
 
 # ----------------------------------------------------------------------------- runs
 
-def branch_path(out, name):
-    return os.path.join(out, name, "branch.json")
-
-
-def load(out, name):
-    try:
-        with open(branch_path(out, name)) as handle:
-            return json.load(handle)
-    except (OSError, json.JSONDecodeError):
-        return None
-
-
-def termination(document):
-    return document.get("summary", {}).get("termination", "missing") if document else "missing"
-
-
 def run_one(nfrc, out, name, force):
     """Runs one case unless it already reached the end of its range (and not force).
     Returns (status, seconds)."""
     if not force and termination(load(out, name)) == "reached_lambda_bound":
         return "skipped (already reached_lambda_bound)", 0.0
-    directory = os.path.join(out, name)
-    os.makedirs(directory, exist_ok=True)
-    started = time.monotonic()
-    with open(os.path.join(directory, "nfrc.log"), "w") as log:
-        code = subprocess.call([nfrc, "run", os.path.join(REPO, CASES, name + ".json"),
-                                "--out", directory], stdout=log, stderr=log)
-    return f"exit {code} ({termination(load(out, name))})", time.monotonic() - started
+    code, seconds = execute([nfrc, "run", os.path.join(REPO, CASES, name + ".json"), "--out",
+                             os.path.join(out, name)], os.path.join(out, name))
+    return f"exit {code} ({termination(load(out, name))})", seconds
 
 
 def run_all(nfrc, out, force, jobs):
@@ -139,28 +115,9 @@ def incomplete(out):
 
 # ----------------------------------------------------------------------------- helpers
 
-def save(figure, path):
-    figure.savefig(path, dpi=DPI)
-    plt.close(figure)
-    size = os.path.getsize(path)
-    if size > MAX_FIGURE_BYTES:
-        print(f"friction_study: warning: {path} is {size // 1000} kB (> 300 kB)")
-    return path
-
-
 def curve(document):
     points = document["points"]
     return (np.array([p["omega"] for p in points]), np.array([p["energy"] for p in points]))
-
-
-def value_at(omega, values, target):
-    """Linear interpolation of values (along the branch) at the first crossing of target."""
-    for i in range(len(omega) - 1):
-        lo, hi = omega[i], omega[i + 1]
-        if (lo - target) * (hi - target) <= 0.0 and lo != hi:
-            t = (target - lo) / (hi - lo)
-            return values[i] + t * (values[i + 1] - values[i])
-    return float("nan")
 
 
 def parabola_vertex(x, y):
@@ -219,12 +176,6 @@ def nearest(found, kind, target):
     if not candidates:
         return None
     return min(candidates, key=lambda e: abs(e[1] - target))
-
-
-def fmt(value, digits=4):
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "—"
-    return f"{value:.{digits}g}"
 
 
 def signals(out, name, index=0):
@@ -294,7 +245,7 @@ def figure7(out, figures):
     axes.grid(True, which="both", alpha=0.25)
     axes.legend(fontsize=7.5, loc="upper left")
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig7_frc.png"))
+    return save(figure, os.path.join(figures, "fig7_frc.png"), "friction")
 
 
 def figure_points(out, figures):
@@ -355,7 +306,7 @@ def figure_convergence(out, figures, rows):
     figure.suptitle("Convergence at point E (N = 10, ω = 0.308) in $N_\\phi$ "
                     "(cf. Legrand & Pierre 2024, Fig. 12)", fontsize=10)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig12_convergence.png"))
+    return save(figure, os.path.join(figures, "fig12_convergence.png"), "friction")
 
 
 def figure_damper(out, figures):
@@ -397,7 +348,7 @@ def figure_piecewise(out, figures):
     figure.suptitle("Piecewise-linear law at point E (N = 10, ω = 0.308, $N_\\phi$ = 160) "
                     "vs the exact law (cf. Legrand & Pierre 2024, Fig. 15)", fontsize=10)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "fig15_piecewise_linear.png"))
+    return save(figure, os.path.join(figures, "fig15_piecewise_linear.png"), "friction")
 
 
 def figure_one_dof(out, figures):
@@ -436,16 +387,10 @@ def figure_one_dof(out, figures):
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize=8)
     figure.tight_layout()
-    return save(figure, os.path.join(figures, "one_dof_frc.png")), peak
+    return save(figure, os.path.join(figures, "one_dof_frc.png"), "friction"), peak
 
 
 # ----------------------------------------------------------------------------- tables
-
-def table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
-    return "\n".join(lines)
-
 
 def shoulder(omega, energy, target, window=MATCH_TOLERANCE):
     """Where log10(energy) stops rising steeply near target without a local maximum: the
@@ -585,17 +530,7 @@ def resonance_tables(out):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--nfrc", default=os.path.join(REPO, "build", "nfrc"))
-    parser.add_argument("--out", default=os.path.join(REPO, "out", "friction"))
-    parser.add_argument("--force", action="store_true", help="rerun finished runs too")
-    parser.add_argument("--jobs", type=int, default=1,
-                        help="runs in parallel (default 1; >1 distorts the timing table)")
-    parser.add_argument("--figures", default=os.path.join(REPO, "docs", "figures", "friction"))
-    parser.add_argument("--markdown", default=os.path.join(REPO, "docs", "friction_results.md"))
-    args = parser.parse_args()
-    if not os.access(args.nfrc, os.X_OK):
-        sys.exit(f"friction_study: {args.nfrc} is not an executable (build nfrc, or --nfrc)")
+    args = parse_arguments("friction", __doc__.splitlines()[0])
     started = time.monotonic()
     load_average = os.getloadavg()
     out = os.path.abspath(args.out)
