@@ -41,4 +41,20 @@ FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem,
   return solution;
 }
 
+std::optional<FixedLambdaSolution> SolveAtCrossing(ContinuationProblem& problem,
+                                                   const BranchPoint* previous,
+                                                   const BranchPoint& point, double lambda,
+                                                   const ContinuationOptions& options) {
+  if (point.lambda == lambda) {
+    return FixedLambdaSolution{true, point.y, 0, point.residual_norm, ""};
+  }
+  if (previous == nullptr || (previous->lambda - lambda) * (point.lambda - lambda) >= 0.0) {
+    return std::nullopt;
+  }
+  const double t = (lambda - previous->lambda) / (point.lambda - previous->lambda);
+  const Eigen::VectorXd guess = (1.0 - t) * previous->y + t * point.y;
+  return SolveAtFixedLambda(problem, guess, lambda, point.y, options);
+}
+
 }  // namespace nfrc
+

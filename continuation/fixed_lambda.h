@@ -1,8 +1,10 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
 
+#include "continuation/branch.h"
 #include "continuation/options.h"
 #include "continuation/problem.h"
 
@@ -25,5 +27,13 @@ FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem,
                                        const Eigen::VectorXd& y_guess, double lambda,
                                        const Eigen::VectorXd& typical_y,
                                        const ContinuationOptions& options);
+
+// The solution at `lambda` if the branch segment from `previous` (may be null: first point)
+// to `point` reaches it: `point` itself if it sits exactly there, else a fixed-λ solve from
+// the linear interpolation when λ lies strictly between the two points; nullopt otherwise.
+std::optional<FixedLambdaSolution> SolveAtCrossing(ContinuationProblem& problem,
+                                                   const BranchPoint* previous,
+                                                   const BranchPoint& point, double lambda,
+                                                   const ContinuationOptions& options);
 
 }  // namespace nfrc

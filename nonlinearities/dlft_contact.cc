@@ -94,24 +94,28 @@ double DlftContact::EpsilonFor(const NonlinearityContext& ctx) const {
   return *resolved_epsilon_;
 }
 
-DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
-                                             const Eigen::VectorXd& y, double omega,
-                                             double epsilon) const {
+DlftContact::LinearRows DlftContact::Rows(const NonlinearityContext& ctx, double omega,
+                                          bool derivative) const {
   const Condensation& condensation = CondensationAt(ctx, omega);
-  const auto x = y.head(condensation.num_unknowns());
-  const double n = geometry_.direction;
   const int a = ctx.local_dofs[0];
-  // Linear residual rows L = Z_r x − F_r of the contact DOF(s).
-  Eigen::VectorXd linear =
-      condensation.RealOperatorRows(a, false) * x - condensation.RealForcingRows(a, false);
+  LinearRows rows{condensation.RealOperatorRows(a, derivative),
+                  condensation.RealForcingRows(a, derivative)};
   if (geometry_.other >= 0) {
     const int b = ctx.local_dofs[1];
-    linear = 0.5 * (linear - (condensation.RealOperatorRows(b, false) * x -
-                              condensation.RealForcingRows(b, false)));
+    rows.a = 0.5 * (rows.a - condensation.RealOperatorRows(b, derivative));
+    rows.b = 0.5 * (rows.b - condensation.RealForcingRows(b, derivative));
   }
+  return rows;
+}
+
+DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
+                                             const Eigen::VectorXd& y, const LinearRows& rows,
+                                             double epsilon) const {
+  const auto x = y.head(rows.a.cols());
   Prediction p;
   p.gap = geometry_.GapOf(ctx, y);
-  const Eigen::VectorXd predicted = -n * linear - epsilon * p.gap;
+  const Eigen::VectorXd predicted =
+      -geometry_.direction * (rows.a * x - rows.b) - epsilon * p.gap;
   const Eigen::VectorXd lambda_x = ctx.fourier->ToTime(predicted).col(0);
   p.mask = (lambda_x.array() > 0.0).cast<double>();
   p.state.force = lambda_x.cwiseProduct(p.mask);
@@ -120,28 +124,29 @@ DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
   return p;
 }
 
+DlftContact::Prediction DlftContact::PredictAt(const NonlinearityContext& ctx,
+                                               const Eigen::VectorXd& y, double omega) const {
+  return Predict(ctx, y, Rows(ctx, omega, false), EpsilonFor(ctx));
+}
+
 void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                            Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                            Eigen::VectorXd* d_omega) const {
   const double epsilon = EpsilonFor(ctx);
-  const Prediction p = Predict(ctx, y, omega, epsilon);
+  const LinearRows rows = Rows(ctx, omega, false);
+  const Prediction p = Predict(ctx, y, rows, epsilon);
   geometry_.AddForce(ctx, p.state.force_coefficients, residual);
   if (jacobian == nullptr && d_omega == nullptr) return;
 
-  const Condensation& condensation = *ctx.condensation;
   const int nc = ctx.num_coefficients();
-  const int nx = condensation.num_unknowns();
+  const int nx = static_cast<int>(rows.a.cols());
   const double n = geometry_.direction;
   const bool pair = geometry_.other >= 0;
-  const int a = ctx.local_dofs[0];
-  const int b = pair ? ctx.local_dofs[1] : -1;
-  const double share = pair ? 0.5 : 1.0;
   const Eigen::MatrixXd masked = ctx.fourier->WeightedProduct(p.mask);
 
   if (jacobian != nullptr) {
-    // ∂λ̃_x/∂x = −n·share·(A_a − A_b) + ε n (S_a − S_b), with S the selection of a DOF.
-    Eigen::MatrixXd dpred = -n * share * condensation.RealOperatorRows(a, false);
-    if (pair) dpred += n * share * condensation.RealOperatorRows(b, false);
+    // ∂λ̃_x/∂x = −n·A + ε n (S_a − S_b), with S the selection of a DOF's coefficients.
+    Eigen::MatrixXd dpred = -n * rows.a;
     dpred.middleCols(ctx.DofOffset(0), nc).diagonal().array() += epsilon * n;
     if (pair) dpred.middleCols(ctx.DofOffset(1), nc).diagonal().array() -= epsilon * n;
     const Eigen::MatrixXd dforce = masked * dpred;
@@ -149,13 +154,8 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
     if (pair) jacobian->block(ctx.DofOffset(1), 0, nc, nx) -= n * dforce;
   }
   if (d_omega != nullptr) {
-    const auto x = y.head(nx);
-    Eigen::VectorXd dlinear =
-        condensation.RealOperatorRows(a, true) * x - condensation.RealForcingRows(a, true);
-    if (pair) {
-      dlinear -= condensation.RealOperatorRows(b, true) * x - condensation.RealForcingRows(b, true);
-    }
-    const Eigen::VectorXd dforce = masked * (-n * share * dlinear);
+    const LinearRows d_rows = Rows(ctx, omega, true);
+    const Eigen::VectorXd dforce = masked * (-n * (d_rows.a * y.head(nx) - d_rows.b));
     d_omega->segment(ctx.DofOffset(0), nc) += n * dforce;
     if (pair) d_omega->segment(ctx.DofOffset(1), nc) -= n * dforce;
   }
@@ -164,7 +164,7 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
 std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const {
-  const Prediction p = Predict(ctx, y, omega, EpsilonFor(ctx));
+  const Prediction p = PredictAt(ctx, y, omega);
   std::vector<LawSignal> signals = ContactSignals(p.state, p.gap, fine);
   if (obstacle_stiffness_ > 0.0) {
     // The obstacle spring carries the (truncated) contact force: x_obs = n λ / k_obs.
@@ -176,16 +176,14 @@ std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
 
 std::vector<LawSignal> DlftContact::RawSamples(const NonlinearityContext& ctx,
                                                const Eigen::VectorXd& y, double omega) const {
-  return ContactRawSamples(Predict(ctx, y, omega, EpsilonFor(ctx)).state, *ctx.fourier);
+  return ContactRawSamples(PredictAt(ctx, y, omega).state, *ctx.fourier);
 }
 
 std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext& ctx,
                                                        const Eigen::VectorXd& y, double omega,
                                                        const FourierTransform& fine) const {
-  const double epsilon = EpsilonFor(ctx);
-  std::map<std::string, double> diagnostics =
-      ContactDiagnostics(Predict(ctx, y, omega, epsilon).state, fine);
-  diagnostics["epsilon"] = epsilon;
+  std::map<std::string, double> diagnostics = ContactDiagnostics(PredictAt(ctx, y, omega).state, fine);
+  diagnostics["epsilon"] = EpsilonFor(ctx);
   return diagnostics;
 }
 

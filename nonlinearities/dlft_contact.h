@@ -59,13 +59,23 @@ class DlftContact : public Nonlinearity {
   double obstacle_stiffness() const { return obstacle_stiffness_; }
 
  private:
+  // The condensed linear equations the prediction reads: rows L = A x − b of the contact
+  // DOF, or half the difference of the two DOFs' rows for a pair (or their ω-derivatives).
+  struct LinearRows {
+    Eigen::MatrixXd a;
+    Eigen::VectorXd b;
+  };
   struct Prediction {
     Eigen::VectorXd gap;          // gap coefficients g̃
     Eigen::VectorXd mask;         // 1 where the sample is in contact (λ_x > 0), else 0
     ContactState state;
   };
-  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
-                     double epsilon) const;
+  LinearRows Rows(const NonlinearityContext& ctx, double omega, bool derivative) const;
+  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                     const LinearRows& rows, double epsilon) const;
+  // Predict with the rows at ω (for outputs).
+  Prediction PredictAt(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                       double omega) const;
   double EpsilonFor(const NonlinearityContext& ctx) const;
 
   ContactGeometry geometry_;

@@ -114,14 +114,11 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
   csv_ << '\n' << std::flush;
 
   for (double omega : case_.signals_at) {
-    if (point.lambda == omega) {
-      WriteSignals(omega, point.y, index, true, "");
-    } else if (previous_ && (previous_->lambda - omega) * (point.lambda - omega) < 0.0) {
-      const double t = (omega - previous_->lambda) / (point.lambda - previous_->lambda);
-      const Eigen::VectorXd guess = (1.0 - t) * previous_->y + t * point.y;
-      const FixedLambdaSolution solved =
-          SolveAtFixedLambda(system_, guess, omega, point.y, case_.continuation);
-      WriteSignals(omega, solved.y, index - 1, solved.converged, solved.message);
+    const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
+    if (const auto solved =
+            SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
+      WriteSignals(omega, solved->y, point.lambda == omega ? index : index - 1, solved->converged,
+                   solved->message);
     }
   }
   previous_ = point;

@@ -24,13 +24,8 @@ class StopAtOmega : public ContinuationObserver {
 
   bool OnPoint(const BranchPoint& point, int index) override {
     writer_.OnPoint(point, index);
-    if (point.lambda == omega_) {
-      solution_ = FixedLambdaSolution{true, point.y, 0, point.residual_norm, ""};
-    } else if (previous_ && (previous_->lambda - omega_) * (point.lambda - omega_) < 0.0) {
-      const double t = (omega_ - previous_->lambda) / (point.lambda - previous_->lambda);
-      const Eigen::VectorXd guess = (1.0 - t) * previous_->y + t * point.y;
-      solution_ = SolveAtFixedLambda(system_, guess, omega_, point.y, options_);
-    }
+    solution_ = SolveAtCrossing(system_, previous_ ? &*previous_ : nullptr, point, omega_,
+                                options_);
     previous_ = point;
     return !solution_.has_value();
   }

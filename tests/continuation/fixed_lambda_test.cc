@@ -36,5 +36,34 @@ TEST_CASE("fixed-lambda Newton reports failure where there is no solution") {
   CHECK_FALSE(solution.message.empty());
 }
 
+TEST_CASE("solve at crossing: exact point, crossing segment, and a segment that misses") {
+  testing::CubicProblem problem;  // y³/3 − y − λ = 0
+  ContinuationOptions options;
+  options.lambda_start = -2.0;
+  options.lambda_end = 2.0;
+  // Two upper-branch points around λ = 1 (y = 2 gives λ = 2/3, y = 2.2 gives λ ≈ 1.349).
+  BranchPoint a;
+  a.y = Eigen::VectorXd::Constant(1, 2.0);
+  a.lambda = 2.0 / 3.0;
+  BranchPoint b;
+  b.y = Eigen::VectorXd::Constant(1, 2.2);
+  b.lambda = 2.2 * 2.2 * 2.2 / 3.0 - 2.2;
+
+  const auto crossing = SolveAtCrossing(problem, &a, b, 1.0, options);
+  REQUIRE(crossing.has_value());
+  REQUIRE(crossing->converged);
+  const double y = crossing->y(0);
+  CHECK(std::abs(y * y * y / 3.0 - y - 1.0) < 1e-12);
+  CHECK(y > 2.0);
+  CHECK(y < 2.2);
+
+  const auto exact = SolveAtCrossing(problem, &a, b, b.lambda, options);
+  REQUIRE(exact.has_value());
+  CHECK(exact->y(0) == b.y(0));  // the point itself, no solve
+
+  CHECK_FALSE(SolveAtCrossing(problem, &a, b, 1.5, options).has_value());
+  CHECK_FALSE(SolveAtCrossing(problem, nullptr, b, 1.0, options).has_value());
+}
+
 }  // namespace
 }  // namespace nfrc
