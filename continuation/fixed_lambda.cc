@@ -8,9 +8,8 @@
 
 namespace nfrc {
 
-FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem,
-                                       const Eigen::VectorXd& y_guess, double lambda,
-                                       const Eigen::VectorXd& typical_y,
+FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem, const Eigen::VectorXd& y_guess,
+                                       double lambda, const Eigen::VectorXd& typical_y,
                                        const ContinuationOptions& options) {
   Evaluator evaluator(problem);
   Scaling scaling(problem.ScaleGroups(), LambdaScale(options), options.scale_floor);
@@ -57,4 +56,3 @@ std::optional<FixedLambdaSolution> SolveAtCrossing(ContinuationProblem& problem,
 }
 
 }  // namespace nfrc
-

@@ -23,9 +23,8 @@ struct FixedLambdaSolution {
 // resolve a branch at requested parameter values between two of its points. Updates are
 // measured against `typical_y` (per unknown: a branch point near by), the residual against
 // ‖R(0, options.lambda_start)‖ as in Continue.
-FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem,
-                                       const Eigen::VectorXd& y_guess, double lambda,
-                                       const Eigen::VectorXd& typical_y,
+FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem, const Eigen::VectorXd& y_guess,
+                                       double lambda, const Eigen::VectorXd& typical_y,
                                        const ContinuationOptions& options);
 
 // The solution at `lambda` if the branch segment from `previous` (may be null: first point)

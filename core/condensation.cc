@@ -304,8 +304,8 @@ Condensation::Condensation(LinearModel model, std::vector<int> retained, Harmoni
   // Dense LU only pays where sparse bookkeeping dominates: small or densely coupled Z_ll
   // (e.g. modal damping). A banded 399-DOF rod took 0.75 s per update dense, 0.8 ms sparse.
   const double density = impl.n_l == 0 ? 1.0
-                                        : static_cast<double>(pattern.nonZeros()) /
-                                              (static_cast<double>(impl.n_l) * impl.n_l);
+                                       : static_cast<double>(pattern.nonZeros()) /
+                                             (static_cast<double>(impl.n_l) * impl.n_l);
   impl.dense = method_ == Method::kDense ||
                (method_ == Method::kAuto && (n < kDenseLimit || density > kDenseFill));
 }
@@ -502,8 +502,8 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
     }
     if (!compliance_.empty()) {
       const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(compliance_.data(), impl.n_r);
-      x_r = AbsoluteFromRelative(d, RelativeBlock{impl.z[p], impl.dz[p], impl.f[p], impl.df[p]},
-                                 x_r);
+      x_r =
+          AbsoluteFromRelative(d, RelativeBlock{impl.z[p], impl.dz[p], impl.f[p], impl.df[p]}, x_r);
     }
     for (int i = 0; i < impl.n_r; ++i) {
       result(retained_[i], ic) = x_r(i).real();

@@ -25,9 +25,9 @@ struct ContactGeometry {
     double sin = 0.0;  // m
   };
   int dof = -1;
-  int other = -1;             // −1: against ground (or a condensed obstacle)
-  double direction = 1.0;     // n
-  double gap = 0.0;           // constant part of g0 (m)
+  int other = -1;                          // −1: against ground (or a condensed obstacle)
+  double direction = 1.0;                  // n
+  double gap = 0.0;                        // constant part of g0 (m)
   std::vector<GapHarmonic> gap_harmonics;  // time-varying part of g0
 
   // Reads "dof", "other", "direction" and "gap" (a number, or

@@ -42,7 +42,8 @@ std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
   if (fields.Has("obstacle_stiffness")) {
     stiffness = fields.RequiredNumber("obstacle_stiffness");
     if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
-      fields.Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+      fields.Fail("obstacle_stiffness",
+                  "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
     }
     if (geometry.other >= 0) {
       fields.Fail("obstacle_stiffness",
@@ -52,7 +53,8 @@ std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
   double epsilon = 0.0;
   if (fields.Has("epsilon")) {
     epsilon = fields.RequiredNumber("epsilon");
-    if (!(epsilon > 0.0) || !std::isfinite(epsilon)) fields.Fail("epsilon", "must be finite and > 0");
+    if (!(epsilon > 0.0) || !std::isfinite(epsilon))
+      fields.Fail("epsilon", "must be finite and > 0");
   }
   fields.Finish();
   return std::make_unique<DlftContact>(std::move(geometry), stiffness, epsilon);
@@ -114,8 +116,7 @@ DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
   const auto x = y.head(rows.a.cols());
   Prediction p;
   p.gap = geometry_.GapOf(ctx, y);
-  const Eigen::VectorXd predicted =
-      -geometry_.direction * (rows.a * x - rows.b) - epsilon * p.gap;
+  const Eigen::VectorXd predicted = -geometry_.direction * (rows.a * x - rows.b) - epsilon * p.gap;
   const Eigen::VectorXd lambda_x = ctx.fourier->ToTime(predicted).col(0);
   p.mask = (lambda_x.array() > 0.0).cast<double>();
   p.state.force = lambda_x.cwiseProduct(p.mask);
@@ -182,7 +183,8 @@ std::vector<LawSignal> DlftContact::RawSamples(const NonlinearityContext& ctx,
 std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext& ctx,
                                                        const Eigen::VectorXd& y, double omega,
                                                        const FourierTransform& fine) const {
-  std::map<std::string, double> diagnostics = ContactDiagnostics(PredictAt(ctx, y, omega).state, fine);
+  std::map<std::string, double> diagnostics =
+      ContactDiagnostics(PredictAt(ctx, y, omega).state, fine);
   diagnostics["epsilon"] = EpsilonFor(ctx);
   return diagnostics;
 }

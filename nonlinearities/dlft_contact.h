@@ -27,8 +27,8 @@ class DlftContact : public Nonlinearity {
   // obstacle_stiffness: N/m, 0 = rigid. epsilon: N/m, 0 = default (DefaultEpsilon).
   DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon);
 
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec,
-                                                const std::string& path, const LinearModel& model);
+  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec, const std::string& path,
+                                                const LinearModel& model);
 
   std::string type() const override { return "dlft_contact"; }
   std::vector<int> Dofs() const override { return geometry_.Dofs(); }
@@ -66,8 +66,8 @@ class DlftContact : public Nonlinearity {
     Eigen::VectorXd b;
   };
   struct Prediction {
-    Eigen::VectorXd gap;          // gap coefficients g̃
-    Eigen::VectorXd mask;         // 1 where the sample is in contact (λ_x > 0), else 0
+    Eigen::VectorXd gap;   // gap coefficients g̃
+    Eigen::VectorXd mask;  // 1 where the sample is in contact (λ_x > 0), else 0
     ContactState state;
   };
   LinearRows Rows(const NonlinearityContext& ctx, double omega, bool derivative) const;

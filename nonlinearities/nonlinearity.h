@@ -79,15 +79,13 @@ class Nonlinearity {
   // Signals on the law's own N_t samples (ctx.fourier's grid) as the law computed them,
   // before truncation to the harmonic bandwidth (e.g. DLFT's corrected contact force).
   virtual std::vector<LawSignal> RawSamples(const NonlinearityContext& /*ctx*/,
-                                            const Eigen::VectorXd& /*y*/,
-                                            double /*omega*/) const {
+                                            const Eigen::VectorXd& /*y*/, double /*omega*/) const {
     return {};
   }
 
   // Scalar diagnostics of the solution for output (e.g. stick phases per period).
   virtual std::map<std::string, double> Diagnostics(const NonlinearityContext& /*ctx*/,
-                                                    const Eigen::VectorXd& /*y*/,
-                                                    double /*omega*/,
+                                                    const Eigen::VectorXd& /*y*/, double /*omega*/,
                                                     const FourierTransform& /*fine*/) const {
     return {};
   }

@@ -26,8 +26,7 @@ std::unique_ptr<Nonlinearity> PenaltyContact::FromJson(const nlohmann::json& spe
   return std::make_unique<PenaltyContact>(std::move(geometry), stiffness);
 }
 
-ContactState PenaltyContact::State(const NonlinearityContext& ctx,
-                                   const Eigen::VectorXd& y) const {
+ContactState PenaltyContact::State(const NonlinearityContext& ctx, const Eigen::VectorXd& y) const {
   ContactState state;
   state.gap = ctx.fourier->ToTime(geometry_.GapOf(ctx, y)).col(0);
   state.force = (-stiffness_ * state.gap).cwiseMax(0.0);

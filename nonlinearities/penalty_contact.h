@@ -18,8 +18,8 @@ class PenaltyContact : public Nonlinearity {
  public:
   PenaltyContact(ContactGeometry geometry, double stiffness);
 
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec,
-                                                const std::string& path, const LinearModel& model);
+  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec, const std::string& path,
+                                                const LinearModel& model);
 
   std::string type() const override { return "penalty_contact"; }
   std::vector<int> Dofs() const override { return geometry_.Dofs(); }

@@ -60,7 +60,8 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
       analyzer_(system, the_case.output_dofs) {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
-  if (error) throw std::runtime_error(dir_ + ": cannot create output directory: " + error.message());
+  if (error)
+    throw std::runtime_error(dir_ + ": cannot create output directory: " + error.message());
   csv_.open(dir_ + "/branch.csv");
   if (!csv_) throw std::runtime_error(dir_ + "/branch.csv: cannot open for writing");
   csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega,energy";
@@ -70,61 +71,59 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
   csv_ << std::setprecision(12);
 
   const HarmonicSet& set = case_.harmonics;
-  document_ = {
-      {"program", "nfrc"},
-      {"version", kNfrcVersion},
-      {"case_file", case_.path},
-      {"case", case_.source},
-      {"harmonics",
-       {{"max", set.max_harmonic()},
-        {"odd_only", set.odd_only()},
-        {"samples", set.num_samples()},
-        {"list", set.harmonics()}}},
-      {"output_dofs", case_.output_names},
-      {"unknowns", system_.NumUnknowns()},
-      {"options", OptionsToJson(case_.continuation)},
-      {"points", nlohmann::json::array()},
-      {"folds", nlohmann::json::array()},
-      {"signals", nlohmann::json::array()},
-      {"summary", {{"termination", "running"}, {"message", "run in progress"}}}};
+  document_ = {{"program", "nfrc"},
+               {"version", kNfrcVersion},
+               {"case_file", case_.path},
+               {"case", case_.source},
+               {"harmonics",
+                {{"max", set.max_harmonic()},
+                 {"odd_only", set.odd_only()},
+                 {"samples", set.num_samples()},
+                 {"list", set.harmonics()}}},
+               {"output_dofs", case_.output_names},
+               {"unknowns", system_.NumUnknowns()},
+               {"options", OptionsToJson(case_.continuation)},
+               {"points", nlohmann::json::array()},
+               {"folds", nlohmann::json::array()},
+               {"signals", nlohmann::json::array()},
+               {"summary", {{"termination", "running"}, {"message", "run in progress"}}}};
   WriteJson();
 }
 
 bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
   const PointMeasures m = analyzer_.Measure(point.y, point.lambda);
   nlohmann::json entry = {{"index", index},
-                                 {"omega", point.lambda},
-                                 {"step", point.step},
-                                 {"newton_iterations", point.newton_iterations},
-                                 {"residual_norm", point.residual_norm},
-                                 {"tangent_omega", point.tangent_lambda},
-                                 {"energy", m.energy},
-                                 {"max_abs", m.max_abs},
-                                 {"min", m.min},
-                                 {"max", m.max},
-                                 {"h1", m.h1},
-                                 {"amplitudes", m.amplitudes},
-                                 {"laws", LawDiagnostics(point.y, point.lambda)}};
+                          {"omega", point.lambda},
+                          {"step", point.step},
+                          {"newton_iterations", point.newton_iterations},
+                          {"residual_norm", point.residual_norm},
+                          {"tangent_omega", point.tangent_lambda},
+                          {"energy", m.energy},
+                          {"max_abs", m.max_abs},
+                          {"min", m.min},
+                          {"max", m.max},
+                          {"h1", m.h1},
+                          {"amplitudes", m.amplitudes},
+                          {"laws", LawDiagnostics(point.y, point.lambda)}};
   AddContactExtremes(entry);
   document_["points"].push_back(std::move(entry));
-  csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations
-       << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
+  csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations << ','
+       << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
   csv_ << '\n' << std::flush;
 
   for (double omega : case_.signals_at) {
     const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
-    if (const auto solved =
-            SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
+    if (const auto solved = SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
       WriteSignals(omega, solved->y, point.lambda == omega ? index : index - 1, solved->converged,
                    solved->message);
     }
   }
   previous_ = point;
   // Large documents are rewritten less often, so that writing stays a small share of the run.
-  const auto interval = std::max<std::chrono::steady_clock::duration>(kJsonInterval,
-                                                                      10 * last_json_duration_);
+  const auto interval =
+      std::max<std::chrono::steady_clock::duration>(kJsonInterval, 10 * last_json_duration_);
   if (std::chrono::steady_clock::now() - last_json_write_ > interval) WriteJson();
   return true;
 }

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <ostream>
+#include <sstream>
 
 #include "continuation/fixed_lambda.h"
 #include "core/input_fields.h"
@@ -24,8 +24,8 @@ class StopAtOmega : public ContinuationObserver {
 
   bool OnPoint(const BranchPoint& point, int index) override {
     writer_.OnPoint(point, index);
-    solution_ = SolveAtCrossing(system_, previous_ ? &*previous_ : nullptr, point, omega_,
-                                options_);
+    solution_ =
+        SolveAtCrossing(system_, previous_ ? &*previous_ : nullptr, point, omega_, options_);
     previous_ = point;
     return !solution_.has_value();
   }
@@ -93,19 +93,17 @@ nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
 
   nlohmann::json result = {{"omega", options.omega}, {"steps", nlohmann::json::array()}};
   if (!observer.solution() || !observer.solution()->converged) {
-    result["message"] = observer.solution() ? "no solution at omega: " +
-                                                  observer.solution()->message
-                                            : "the branch did not reach omega: " +
-                                                  branch.summary.message;
+    result["message"] = observer.solution()
+                            ? "no solution at omega: " + observer.solution()->message
+                            : "the branch did not reach omega: " + branch.summary.message;
   } else {
     Eigen::VectorXd y = observer.solution()->y;
     for (double epsilon : options.epsilons) {
       for (DlftContact* law : dlft) law->set_epsilon(epsilon);
       const FixedLambdaSolution solved =
           SolveAtFixedLambda(*system, y, options.omega, y, the_case.continuation);
-      const nlohmann::json& record =
-          writer.WriteSignals(options.omega, solved.y, -1, solved.converged,
-                              "epsilon=" + Format(epsilon));
+      const nlohmann::json& record = writer.WriteSignals(
+          options.omega, solved.y, -1, solved.converged, "epsilon=" + Format(epsilon));
       nlohmann::json step = {{"epsilon", epsilon},
                              {"converged", solved.converged},
                              {"newton_iterations", solved.iterations},

@@ -13,8 +13,8 @@ namespace nfrc {
 // solved at ω with each ε of a sequence in turn, every solve warm-started from the previous
 // solution, so that very large ε (where a cold start fails) are reached.
 struct RefinementOptions {
-  double omega = 0.0;             // rad/s; must lie on the case's ω range
-  std::vector<double> epsilons;   // N/m, in the order solved; every one > 0
+  double omega = 0.0;            // rad/s; must lie on the case's ω range
+  std::vector<double> epsilons;  // N/m, in the order solved; every one > 0
 
   // Throws InputError naming "omega" or "epsilons".
   void Validate(const Case& the_case) const;

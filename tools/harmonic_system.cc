@@ -53,8 +53,8 @@ HarmonicSystem::HarmonicSystem(ModelDefinition model, HarmonicSet set,
     ctx.fourier = &fourier_;
     ctx.condensation = &condensation_;
     for (int dof : law->Dofs()) {
-      ctx.local_dofs.push_back(static_cast<int>(
-          std::find(retained_.begin(), retained_.end(), dof) - retained_.begin()));
+      ctx.local_dofs.push_back(
+          static_cast<int>(std::find(retained_.begin(), retained_.end(), dof) - retained_.begin()));
     }
     ctx.own_offset = offset;
     offset += law->NumOwnUnknowns(set);
@@ -164,8 +164,7 @@ Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
   return y;
 }
 
-Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double omega,
-                                                int dof) {
+Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double omega, int dof) {
   const int nc = harmonic_set().NumCoefficients();
   const auto found = std::find(retained_.begin(), retained_.end(), dof);
   // With obstacles the retained unknowns are relative displacements: recover absolute ones.

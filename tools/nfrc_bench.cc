@@ -48,9 +48,8 @@ void BenchCase(const std::string& name, int repeats) {
     times.push_back(Seconds(start));
   }
   const auto& s = branch.summary;
-  std::printf("%s: %s, %d points, %d folds, %d unknowns\n", name.c_str(),
-              nfrc::ToString(s.reason), s.num_points, s.num_folds,
-              static_cast<int>(branch.points.front().y.size()));
+  std::printf("%s: %s, %d points, %d folds, %d unknowns\n", name.c_str(), nfrc::ToString(s.reason),
+              s.num_points, s.num_folds, static_cast<int>(branch.points.front().y.size()));
   std::printf("  wall time      %.2f ms (median of %d runs)\n", 1e3 * Median(times), repeats);
   std::printf("  per point      %.3f ms\n", 1e3 * Median(times) / s.num_points);
   std::printf("  Newton/point   %.2f (%d iterations, %d rejected steps)\n",
@@ -89,8 +88,10 @@ void BenchChain(int n, int frequencies) {
     condensation.Update(omega);
     times.push_back(Seconds(start));
   }
-  std::printf("sparse chain %6d DOFs -> 2 DOFs, H=20 (21 harmonics): %.1f ms per frequency "
-              "(median of %d)\n", n, 1e3 * Median(times), frequencies);
+  std::printf(
+      "sparse chain %6d DOFs -> 2 DOFs, H=20 (21 harmonics): %.1f ms per frequency "
+      "(median of %d)\n",
+      n, 1e3 * Median(times), frequencies);
 }
 
 // Lowest eigenfrequency sqrt(λ_min) of K φ = λ M φ (K symmetric positive definite) by
@@ -180,37 +181,43 @@ void BenchRefinedRod(int elements, int max_points) {
     cached_times.push_back(Seconds(start));
   }
   // The residual tolerance in newtons: residual_tolerance · ‖R(0, ω_start)‖.
-  system->Evaluate(Eigen::VectorXd::Zero(system->NumUnknowns()),
-                   the_case.continuation.lambda_start, &residual, nullptr, nullptr);
+  system->Evaluate(Eigen::VectorXd::Zero(system->NumUnknowns()), the_case.continuation.lambda_start,
+                   &residual, nullptr, nullptr);
   const double tolerance = the_case.continuation.residual_tolerance * residual.norm();
   const double x_norm = last.y.head(system->num_displacement_unknowns()).norm();
 
   const int steps = std::max(1, s.num_accepted_steps);
-  std::printf("rod %d elements (%d DOFs), rigid contact at end, N_h=20, N_t=400, %s "
-              "condensation, Rayleigh C = %.4g s * K\n",
-              elements, model.num_dofs(),
-              model.num_dofs() >= nfrc::Condensation::kDenseLimit ? "sparse" : "dense", beta);
+  std::printf(
+      "rod %d elements (%d DOFs), rigid contact at end, N_h=20, N_t=400, %s "
+      "condensation, Rayleigh C = %.4g s * K\n",
+      elements, model.num_dofs(),
+      model.num_dofs() >= nfrc::Condensation::kDenseLimit ? "sparse" : "dense", beta);
   std::printf("  omega0         %.1f rad/s (inverse iteration), damping ratio there %.4f %%\n",
               omega0, 100.0 * 0.5 * beta * omega0);
-  std::printf("  traced         %s: %d points, omega %.0f -> %.0f, %d accepted + %d rejected "
-              "steps, %d Newton iterations, %d evaluations\n",
-              nfrc::ToString(s.reason), s.num_points, branch.points.front().lambda, last.lambda,
-              s.num_accepted_steps, s.num_rejected_steps, s.total_newton_iterations,
-              s.num_evaluations);
-  std::printf("  setup          %.1f ms system, %.1f ms starting point (not in the figures "
-              "below)\n", 1e3 * build_time, 1e3 * start_time);
-  std::printf("  per step       %.1f ms (trace %.2f s / %d accepted steps, start Newton "
-              "included); %d of %d steps needed the fixed-omega fallback\n",
-              1e3 * trace_time / steps, trace_time, steps, fallbacks, steps);
-  std::printf("  per evaluation %.2f ms in the trace (%.1f evaluations/step); %.3f ms at a "
-              "cached omega (median of 20)\n",
-              1e3 * trace_time / std::max(1, s.num_evaluations),
-              static_cast<double>(s.num_evaluations) / steps, 1e3 * Median(cached_times));
+  std::printf(
+      "  traced         %s: %d points, omega %.0f -> %.0f, %d accepted + %d rejected "
+      "steps, %d Newton iterations, %d evaluations\n",
+      nfrc::ToString(s.reason), s.num_points, branch.points.front().lambda, last.lambda,
+      s.num_accepted_steps, s.num_rejected_steps, s.total_newton_iterations, s.num_evaluations);
+  std::printf(
+      "  setup          %.1f ms system, %.1f ms starting point (not in the figures "
+      "below)\n",
+      1e3 * build_time, 1e3 * start_time);
+  std::printf(
+      "  per step       %.1f ms (trace %.2f s / %d accepted steps, start Newton "
+      "included); %d of %d steps needed the fixed-omega fallback\n",
+      1e3 * trace_time / steps, trace_time, steps, fallbacks, steps);
+  std::printf(
+      "  per evaluation %.2f ms in the trace (%.1f evaluations/step); %.3f ms at a "
+      "cached omega (median of 20)\n",
+      1e3 * trace_time / std::max(1, s.num_evaluations),
+      static_cast<double>(s.num_evaluations) / steps, 1e3 * Median(cached_times));
   std::printf("  update         %.2f ms per frequency, condensation alone (median of 3)\n",
               1e3 * Median(update_times));
-  std::printf("  Z rounding     %.3g N/m at harmonic 1 (|Z| = %.3g N/m): residual noise "
-              "~%.2g N vs tolerance %.2g N\n",
-              noise, std::abs(z[1]), noise * x_norm, tolerance);
+  std::printf(
+      "  Z rounding     %.3g N/m at harmonic 1 (|Z| = %.3g N/m): residual noise "
+      "~%.2g N vs tolerance %.2g N\n",
+      noise, std::abs(z[1]), noise * x_norm, tolerance);
 }
 
 }  // namespace

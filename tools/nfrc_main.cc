@@ -66,8 +66,7 @@ int Run(const std::vector<std::string>& args) {
   std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
             << "nfrc: " << summary.num_points << " points, " << summary.num_folds
             << " folds, wrote " << out_dir << "/branch.json and branch.csv\n";
-  const bool complete = summary.success() ||
-                        summary.reason == nfrc::TerminationReason::kMaxPoints;
+  const bool complete = summary.success() || summary.reason == nfrc::TerminationReason::kMaxPoints;
   return complete ? kExitOk : kExitRunIncomplete;
 }
 

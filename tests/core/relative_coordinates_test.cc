@@ -118,9 +118,9 @@ TEST_CASE("relative coordinates: a singular I + Z·D throws") {
   const Eigen::MatrixXcd z = Eigen::MatrixXcd::Constant(1, 1, -k_obs);
   Eigen::VectorXd d(1);
   d << 1.0 / k_obs;
-  CHECK_THROWS_AS(ToRelativeCoordinates(d, z, z, Eigen::VectorXcd::Ones(1),
-                                        Eigen::VectorXcd::Zero(1)),
-                  std::runtime_error);
+  CHECK_THROWS_AS(
+      ToRelativeCoordinates(d, z, z, Eigen::VectorXcd::Ones(1), Eigen::VectorXcd::Zero(1)),
+      std::runtime_error);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -10,10 +10,15 @@
 
 #include "core/input_fields.h"
 #include "nonlinearities/jacobian_check.h"
+#include "nonlinearities/law_test_support.h"
 #include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
+
+using testing::LawInputError;
+using testing::NamesField;
+using testing::TwoDofModel;
 
 // Away from switching samples DLFT is linear in y on each sample (the mask is frozen), so
 // central differences are exact up to round-off: 1e-7 relative step, 1e-6 tolerance.
@@ -128,37 +133,12 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
   }
 }
 
-
 // ---------------------------------------------------------------------------------------
 // Case-file errors.
 
-LinearModel NamedTwoDofModel() {
-  LinearModel model;
-  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.stiffness = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.damping = Eigen::MatrixXd::Zero(2, 2).sparseView();
-  model.dof_names = {"a", "b"};
-  return model;
-}
-
-// The error message of MakeNonlinearity for `text`, or "no error".
-std::string ErrorOf(const std::string& text) {
-  try {
-    MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", NamedTwoDofModel());
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
-}
-
-// True if `message` starts by naming `field` of the law ("nonlinearities[0].<field>: ").
-bool Names(const std::string& message, const std::string& field) {
-  return message.rfind("nonlinearities[0]." + field + ": ", 0) == 0;
-}
-
 TEST_CASE("DLFT contact: case-file errors name the field") {
   // Valid forms, so each error below is due to the one field changed.
-  const LinearModel model = NamedTwoDofModel();
+  const LinearModel model = TwoDofModel();
   auto law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "dlft_contact", "dof": "b",
       "gap": 0.1, "obstacle_stiffness": 50, "epsilon": 20})"),
                               "nonlinearities[0]", model);
@@ -172,43 +152,50 @@ TEST_CASE("DLFT contact: case-file errors name the field") {
       "direction": -1, "gap": {"constant": 0.1, "harmonics": [{"harmonic": 3, "sin": 0.01}]}})"),
                          "nonlinearities[0]", model);
   CHECK(law->Dofs() == std::vector<int>{0, 1});
-  CHECK(law->ObstacleCompliance().empty());  // rigid
+  CHECK(law->ObstacleCompliance().empty());                        // rigid
   CHECK(dynamic_cast<const DlftContact&>(*law).epsilon() == 0.0);  // default, unresolved
 
-  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "other": 1, "gap": 0.1,
+  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "other": 1, "gap": 0.1,
                     "obstacle_stiffness": 50})")
             .find("nonlinearities[0].obstacle_stiffness: not allowed with other") == 0);
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": 0})"),
-              "obstacle_stiffness"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": -1})"),
-              "obstacle_stiffness"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": 0})"),
-              "epsilon"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": -3})"),
-              "epsilon"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": "big"})"),
-              "epsilon"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 0})"),
-              "direction"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 2})"),
-              "direction"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0,
+  CHECK(NamesField(
+      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": 0})"),
+      "obstacle_stiffness"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": -1})"),
+      "obstacle_stiffness"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": 0})"),
+                   "epsilon"));
+  CHECK(
+      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": -3})"),
+                 "epsilon"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": "big"})"),
+      "epsilon"));
+  CHECK(
+      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 0})"),
+                 "direction"));
+  CHECK(
+      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 2})"),
+                 "direction"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0,
                           "gap": {"harmonics": [{"harmonic": 0, "cos": 0.1}]}})"),
-              "gap.harmonics[0].harmonic"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0,
+                   "gap.harmonics[0].harmonic"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0,
                           "gap": {"harmonics": [{"cos": 0.1}]}})"),
-              "gap.harmonics[0].harmonic"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": {"harmonics": 1}})"),
-              "gap.harmonics"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": [0.1]})"), "gap"));
-  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0})") ==
+                   "gap.harmonics[0].harmonic"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": {"harmonics": 1}})"),
+                   "gap.harmonics"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": [0.1]})"), "gap"));
+  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0})") ==
         "nonlinearities[0].gap: missing (required)");
-  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "stiffness": 100})") ==
+  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "stiffness": 100})") ==
         "nonlinearities[0].stiffness: unknown key");
-  CHECK(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "eps": 100})") ==
+  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "eps": 100})") ==
         "nonlinearities[0].eps: unknown key");
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": 0, "other": 0, "gap": 0.1})"), "other"));
-  CHECK(Names(ErrorOf(R"({"type": "dlft_contact", "dof": "z", "gap": 0.1})"), "dof"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "other": 0, "gap": 0.1})"),
+                   "other"));
+  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": "z", "gap": 0.1})"), "dof"));
   // Constructor checks for programmatic use.
   ContactGeometry pair;
   pair.dof = 0;
@@ -359,8 +346,8 @@ TEST_CASE("DLFT contact: at a solution gap and force satisfy the contact law up 
     MESSAGE("N_h = " << max_harmonic << ", eps = " << epsilon << ": contact on " << in_contact
                      << "/" << gap.size() << " samples, truncation tau = " << tau
                      << " N, bound (tau + rho)/eps = " << bound << " m, max penetration "
-                     << penetration << " m, max |lambda g| " << complementarity
-                     << ", newton " << solved.iterations);
+                     << penetration << " m, max |lambda g| " << complementarity << ", newton "
+                     << solved.iterations);
     // A genuinely nonsmooth state: both contact and separation within the period.
     CHECK(in_contact > 0);
     CHECK(in_contact < gap.size());
@@ -369,7 +356,8 @@ TEST_CASE("DLFT contact: at a solution gap and force satisfy the contact law up 
   }
 }
 
-TEST_CASE("DLFT contact: a time-varying gap equals the constant-gap problem in shifted coordinates") {
+TEST_CASE(
+    "DLFT contact: a time-varying gap equals the constant-gap problem in shifted coordinates") {
   // With g0(θ) = g + s(θ), s = a cos θ + b sin θ, the gap is g − (x_0 − s): x solves the
   // problem with g0(θ) iff x' = x − s e_0 solves the constant-gap problem with forcing
   // F − Z s e_0 (harmonic 1, every DOF). The DLFT prediction −n(Z x − F) − ε g is the same

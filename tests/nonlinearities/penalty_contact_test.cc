@@ -11,10 +11,15 @@
 
 #include "core/input_fields.h"
 #include "nonlinearities/jacobian_check.h"
+#include "nonlinearities/law_test_support.h"
 #include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
+
+using testing::LawInputError;
+using testing::NamesField;
+using testing::TwoDofModel;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -31,16 +36,6 @@ constexpr double kSwitchMargin = 1e-3;
 constexpr double kAftTolerance = 1e-12;
 
 constexpr double kStiffness = 250.0;
-
-// Two DOFs named "a" and "b" (the laws do not read the matrices).
-LinearModel TwoDofModel() {
-  LinearModel model;
-  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.stiffness = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.damping = Eigen::MatrixXd::Zero(2, 2).sparseView();
-  model.dof_names = {"a", "b"};
-  return model;
-}
 
 // x(θ) = a_0 + Σ_k a_k cos kθ + b_k sin kθ, summed directly (not through nfrc's FFT).
 double EvaluateSeries(const HarmonicSet& set, const Eigen::VectorXd& c, double theta) {
@@ -74,7 +69,7 @@ Eigen::VectorXd Project(const HarmonicSet& set, const Eigen::VectorXd& samples) 
 
 struct Variant {
   const char* name;
-  int other;        // −1: grounded
+  int other;  // −1: grounded
   double direction;
   bool varying_gap;  // g0(θ) = 1 + 0.1 cos 2θ − 0.05 sin 2θ instead of 1
 };
@@ -103,8 +98,7 @@ double GapReference(const Variant& v, double theta) {
 // higher harmonics crosses the gap ≈ 1 twice per period, redrawn until no sample's gap is
 // within kSwitchMargin of 0. y holds the two DOFs' coefficients (DOF 0 first). Returns the
 // share of samples in contact.
-double DrawState(const Variant& v, const HarmonicSet& set, std::mt19937& rng,
-                 Eigen::VectorXd* y) {
+double DrawState(const Variant& v, const HarmonicSet& set, std::mt19937& rng, Eigen::VectorXd* y) {
   const int nc = set.NumCoefficients();
   std::normal_distribution<double> normal(0.0, 1.0);
   for (int attempt = 0; attempt < 100; ++attempt) {
@@ -264,26 +258,12 @@ TEST_CASE("penalty contact: the gap's harmonics must be in the set") {
   CHECK_THROWS_AS(PenaltyContact(geometry, 0.0), std::invalid_argument);
 }
 
-// The error message of MakeNonlinearity for `text`, or "no error".
-std::string ErrorOf(const std::string& text) {
-  try {
-    MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", TwoDofModel());
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
-}
-
-// True if `message` starts by naming `field` of the law ("nonlinearities[0].<field>: ").
-bool Names(const std::string& message, const std::string& field) {
-  return message.rfind("nonlinearities[0]." + field + ": ", 0) == 0;
-}
-
 TEST_CASE("penalty contact: case-file errors name the field") {
   const LinearModel model = TwoDofModel();
   // Valid forms first, so the errors below are due to the one field changed.
   auto law = MakeNonlinearity(
-      nlohmann::json::parse(R"({"type": "penalty_contact", "dof": "b", "gap": 1, "stiffness": 100})"),
+      nlohmann::json::parse(
+          R"({"type": "penalty_contact", "dof": "b", "gap": 1, "stiffness": 100})"),
       "nonlinearities[0]", model);
   CHECK(law->type() == "penalty_contact");
   CHECK(law->Dofs() == std::vector<int>{1});
@@ -294,46 +274,55 @@ TEST_CASE("penalty contact: case-file errors name the field") {
                          "nonlinearities[0]", model);
   CHECK(law->Dofs() == std::vector<int>{0, 1});
 
-  CHECK(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1})") ==
+  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1})") ==
         "nonlinearities[0].stiffness: missing (required)");
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 0})"),
-              "stiffness"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": -5})"),
-              "stiffness"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": "hard"})"),
-              "stiffness"));
-  CHECK(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100})") ==
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 0})"),
+      "stiffness"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": -5})"),
+      "stiffness"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": "hard"})"),
+      "stiffness"));
+  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100})") ==
         "nonlinearities[0].gap: missing (required)");
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": "1", "stiffness": 100})"),
-              "gap"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": "1", "stiffness": 100})"),
+      "gap"));
+  CHECK(
+      NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
                           "direction": 0.5})"),
-              "direction"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 2, "gap": 1, "stiffness": 100})"),
-              "dof"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": "c", "gap": 1, "stiffness": 100})"),
-              "dof"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "gap": 1, "stiffness": 100})"), "dof"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "other": "a", "gap": 1,
+                 "direction"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": 2, "gap": 1, "stiffness": 100})"),
+      "dof"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contact", "dof": "c", "gap": 1, "stiffness": 100})"),
+      "dof"));
+  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "gap": 1, "stiffness": 100})"),
+                   "dof"));
+  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "other": "a", "gap": 1,
                           "stiffness": 100})"),
-              "other"));
-  CHECK(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stifness": 100,
+                   "other"));
+  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stifness": 100,
                     "stiffness": 100})") == "nonlinearities[0].stifness: unknown key");
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
+  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
                           "gap": {"constant": 1, "harmonics": [{"harmonic": 0, "cos": 1}]}})"),
-              "gap.harmonics[0].harmonic"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
+                   "gap.harmonics[0].harmonic"));
+  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
                           "gap": {"constant": 1, "harmonics": [{"harmonic": 1, "cosine": 1}]}})"),
-              "gap.harmonics[0].cosine"));
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
+                   "gap.harmonics[0].cosine"));
+  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
                           "gap": {"constant": 1, "offset": 2}})"),
-              "gap.offset"));
+                   "gap.offset"));
   // obstacle_stiffness belongs to DLFT: the penalty law is itself the flexible obstacle.
-  CHECK(ErrorOf(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
+  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
                     "obstacle_stiffness": 100})") ==
         "nonlinearities[0].obstacle_stiffness: unknown key");
-  CHECK(Names(ErrorOf(R"({"type": "penalty_contacts", "dof": 0, "gap": 1, "stiffness": 100})"),
-              "type"));
+  CHECK(NamesField(
+      LawInputError(R"({"type": "penalty_contacts", "dof": 0, "gap": 1, "stiffness": 100})"),
+      "type"));
 }
 
 }  // namespace

@@ -6,24 +6,18 @@
 
 #include "core/input_fields.h"
 #include "nonlinearities/jacobian_check.h"
+#include "nonlinearities/law_test_support.h"
 #include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
 
+using testing::TwoDofModel;
+
 // Central differences with relative step 1e-6 on a cubic have truncation error ~h² ≈ 1e-12
 // and round-off ~1e-16/1e-6 = 1e-10 relative; 1e-7 leaves margin without hiding a wrong entry.
 constexpr double kFdTolerance = 1e-7;
 constexpr double kFdStep = 1e-6;
-
-LinearModel TwoDofModel() {
-  LinearModel model;
-  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.stiffness = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.damping = Eigen::MatrixXd::Zero(2, 2).sparseView();
-  model.dof_names = {"a", "b"};
-  return model;
-}
 
 NonlinearityContext Context(const FourierTransform& fourier, std::vector<int> local_dofs) {
   NonlinearityContext ctx;
@@ -57,13 +51,13 @@ TEST_CASE("polynomial spring Jacobians match finite differences, grounded and be
     Eigen::VectorXd y = Eigen::VectorXd::Random(2 * nc);
 
     PolynomialSpring grounded("polynomial_spring", 1, -1, {{2, 0.3}, {3, 1.1}, {5, -0.2}});
-    auto result = CheckNonlinearityJacobian(grounded, Context(fourier, {1}), nullptr, y, 0.9,
-                                            kFdStep, 1.0);
+    auto result =
+        CheckNonlinearityJacobian(grounded, Context(fourier, {1}), nullptr, y, 0.9, kFdStep, 1.0);
     CHECK(result.y_error < kFdTolerance);
 
     PolynomialSpring between("cubic_spring", 0, 1, {{3, 2.0}});
-    result = CheckNonlinearityJacobian(between, Context(fourier, {0, 1}), nullptr, y, 0.9,
-                                       kFdStep, 1.0);
+    result =
+        CheckNonlinearityJacobian(between, Context(fourier, {0, 1}), nullptr, y, 0.9, kFdStep, 1.0);
     CHECK(result.y_error < kFdTolerance);
     // A displacement law: the ω column is exactly zero, analytically and by differences.
     CHECK(result.omega_error == 0.0);

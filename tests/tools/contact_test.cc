@@ -94,9 +94,8 @@ TEST_CASE("contact: a rod with a distant obstacle reproduces the linear FRF") {
     worst_other = std::max(worst_other, others.cwiseAbs().maxCoeff() / std::abs(x(end)));
   }
   MESSAGE("rod, gap 1 m: " << branch.points.size() << " points, max |x_end| = " << largest
-                           << " m, worst relative error of h1 " << worst
-                           << ", other harmonics " << worst_other << ", " << Seconds(start)
-                           << " s");
+                           << " m, worst relative error of h1 " << worst << ", other harmonics "
+                           << worst_other << ", " << Seconds(start) << " s");
   CHECK(worst < kLinearTolerance);
   CHECK(worst_other < kLinearTolerance);
   // The range crosses the first resonance (63 953 rad/s), so the FRF was not trivially flat.
@@ -135,15 +134,20 @@ nlohmann::json NlvibCaseWithObstacleDof(const nlohmann::json& law) {
 }
 
 nlohmann::json Penalty(int dof, double direction, double gap, double stiffness) {
-  return {{"type", "penalty_contact"}, {"dof", dof},   {"direction", direction},
-          {"gap", gap},                {"stiffness", stiffness}};
+  return {{"type", "penalty_contact"},
+          {"dof", dof},
+          {"direction", direction},
+          {"gap", gap},
+          {"stiffness", stiffness}};
 }
 
 // DLFT against a massless obstacle of stiffness k; epsilon 0 = the default ε.
 nlohmann::json DlftFlexible(int dof, double direction, double gap, double stiffness,
                             double epsilon) {
-  nlohmann::json law = {{"type", "dlft_contact"}, {"dof", dof},
-                        {"direction", direction}, {"gap", gap},
+  nlohmann::json law = {{"type", "dlft_contact"},
+                        {"dof", dof},
+                        {"direction", direction},
+                        {"gap", gap},
                         {"obstacle_stiffness", stiffness}};
   if (epsilon > 0.0) law["epsilon"] = epsilon;
   return law;
@@ -215,7 +219,8 @@ Eigen::VectorXd SolveOnLastCrossing(Traced& t, double omega) {
 // Largest |difference| of the coefficients of `dofs` between two solutions of two systems
 // of the same model at ω, relative to the largest coefficient.
 double CoefficientDifference(HarmonicSystem& a, const Eigen::VectorXd& ya, HarmonicSystem& b,
-                             const Eigen::VectorXd& yb, double omega, const std::vector<int>& dofs) {
+                             const Eigen::VectorXd& yb, double omega,
+                             const std::vector<int>& dofs) {
   double difference = 0.0, scale = 0.0;
   for (int dof : dofs) {
     const Eigen::VectorXd ca = a.DofCoefficients(ya, omega, dof);
@@ -270,15 +275,17 @@ constexpr double kIdentityTolerance = 1e-8;
 
 TEST_CASE("contact: DLFT with a flexible obstacle and eps = k_obs is the penalty law exactly") {
   const auto start = std::chrono::steady_clock::now();
-  Traced dlft = TraceCase(
-      NlvibCase({DlftFlexible(0, 1, 1, kObstacleStiffness, kObstacleStiffness)}));
+  Traced dlft =
+      TraceCase(NlvibCase({DlftFlexible(0, 1, 1, kObstacleStiffness, kObstacleStiffness)}));
   CHECK(dlft.branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(dlft.branch.points.size() > 20);
 
   Case penalty_case = ParseCase(NlvibCase({Penalty(0, 1, 1, kObstacleStiffness)}), ".");
   auto penalty = MakeSystem(penalty_case);
-  nlohmann::json other_law = {{"type", "dlft_contact"}, {"dof", 0},
-                              {"other", 2},             {"gap", 1},
+  nlohmann::json other_law = {{"type", "dlft_contact"},
+                              {"dof", 0},
+                              {"other", 2},
+                              {"gap", 1},
                               {"epsilon", kObstacleStiffness}};
   Case other_case = ParseCase(NlvibCaseWithObstacleDof(other_law), ".");
   auto other = MakeSystem(other_case);
@@ -302,8 +309,8 @@ TEST_CASE("contact: DLFT with a flexible obstacle and eps = k_obs is the penalty
     REQUIRE(by_other.converged);
     worst_penalty = std::max(worst_penalty, CoefficientDifference(*dlft.system, p.y, *penalty,
                                                                   by_penalty.y, p.lambda, {0, 1}));
-    worst_other = std::max(worst_other, CoefficientDifference(*dlft.system, p.y, *other,
-                                                              by_other.y, p.lambda, {0, 1}));
+    worst_other = std::max(worst_other, CoefficientDifference(*dlft.system, p.y, *other, by_other.y,
+                                                              p.lambda, {0, 1}));
     // The obstacle DOF's displacement is the flexible obstacle's x_0 − x_r.
     const Eigen::VectorXd obstacle = other->DofCoefficients(by_other.y, p.lambda, 2);
     CHECK((obstacle - (x0 - p.y.head(nc))).cwiseAbs().maxCoeff() <
@@ -338,8 +345,7 @@ constexpr double kStiffEpsilon = 10 * kObstacleStiffness;
 
 TEST_CASE("contact: DLFT (eps = 10 k_obs) and penalty FRCs agree within the truncation error") {
   const auto start = std::chrono::steady_clock::now();
-  Traced dlft =
-      TraceCase(NlvibCase({DlftFlexible(0, 1, 1, kObstacleStiffness, kStiffEpsilon)}));
+  Traced dlft = TraceCase(NlvibCase({DlftFlexible(0, 1, 1, kObstacleStiffness, kStiffEpsilon)}));
   Traced penalty = TraceCase(NlvibCase({Penalty(0, 1, 1, kObstacleStiffness)}));
   CHECK(dlft.branch.summary.reason == TerminationReason::kReachedLambdaBound);
   CHECK(penalty.branch.summary.reason == TerminationReason::kReachedLambdaBound);
@@ -350,10 +356,10 @@ TEST_CASE("contact: DLFT (eps = 10 k_obs) and penalty FRCs agree within the trun
   double worst = 0.0;
   const HarmonicSet& set = dlft.system->harmonic_set();
   for (double omega : {0.6, 0.65, 0.7}) {
-    const double h_dlft = H1(set, dlft.system->DofCoefficients(SolveOnLastCrossing(dlft, omega),
-                                                               omega, 1));
-    const double h_penalty = H1(
-        set, penalty.system->DofCoefficients(SolveOnLastCrossing(penalty, omega), omega, 1));
+    const double h_dlft =
+        H1(set, dlft.system->DofCoefficients(SolveOnLastCrossing(dlft, omega), omega, 1));
+    const double h_penalty =
+        H1(set, penalty.system->DofCoefficients(SolveOnLastCrossing(penalty, omega), omega, 1));
     const double difference = std::abs(h_dlft - h_penalty) / h_penalty;
     at << " omega " << omega << ": " << h_dlft << " vs " << h_penalty << ";";
     worst = std::max(worst, difference);
@@ -361,10 +367,9 @@ TEST_CASE("contact: DLFT (eps = 10 k_obs) and penalty FRCs agree within the trun
     CHECK(difference > kIdentityTolerance);
   }
   MESSAGE("eps = " << kStiffEpsilon << ": peak h1(DOF 2) DLFT " << std::setprecision(7)
-                   << dlft_peak.h1 << " at " << dlft_peak.omega << ", penalty "
-                   << penalty_peak.h1 << " at " << penalty_peak.omega << " (relative difference "
-                   << peak_difference << ");" << at.str() << " worst " << worst << "; "
-                   << Seconds(start) << " s");
+                   << dlft_peak.h1 << " at " << dlft_peak.omega << ", penalty " << penalty_peak.h1
+                   << " at " << penalty_peak.omega << " (relative difference " << peak_difference
+                   << ");" << at.str() << " worst " << worst << "; " << Seconds(start) << " s");
   CHECK(peak_difference < kTruncationTolerance);
   CHECK(worst < kTruncationTolerance);
   CHECK(std::abs(dlft_peak.omega - penalty_peak.omega) < kNlvibPeakOmegaTolerance);
@@ -451,12 +456,12 @@ TEST_CASE("contact: two contact nodes, flexible DLFT against the penalty law at 
     const FixedLambdaSolution solved =
         SolveAtFixedLambda(*penalty, guess, p.lambda, guess, penalty_case.continuation);
     REQUIRE(solved.converged);
-    worst = std::max(worst, CoefficientDifference(*dlft.system, p.y, *penalty, solved.y,
-                                                  p.lambda, {0, 1}));
+    worst = std::max(
+        worst, CoefficientDifference(*dlft.system, p.y, *penalty, solved.y, p.lambda, {0, 1}));
     ++compared;
   }
-  MESSAGE("two contacts: " << dlft.branch.points.size() << " points, "
-                           << dlft.branch.folds.size() << " folds, " << compared
+  MESSAGE("two contacts: " << dlft.branch.points.size() << " points, " << dlft.branch.folds.size()
+                           << " folds, " << compared
                            << " compared; worst relative difference vs penalty " << worst
                            << "; max force " << max_force[0] << ", " << max_force[1]
                            << " N; max penetration " << max_penetration[0] << ", "
