@@ -37,6 +37,9 @@ TEST_CASE("nfrc run writes branch.json with points, folds and summary; measures 
     const double max_abs = point["max_abs"][0];
     CHECK(max_abs <= h1 * (1 + 1e-12));
     CHECK(max_abs >= h1 * (1 - 2e-5));
+    // A pure first harmonic swings symmetrically: max x = −min x = max |x| on the same grid.
+    CHECK(point["max"][0].get<double>() == doctest::Approx(max_abs).epsilon(2e-5));
+    CHECK(point["min"][0].get<double>() == doctest::Approx(-max_abs).epsilon(2e-5));
   }
   const auto& last = branch.points.back();
   CHECK(doc["points"].back()["h1"][0].get<double>() ==
