@@ -65,13 +65,16 @@ double ResidualScale(Evaluator& evaluator, const Eigen::VectorXd& y_guess, doubl
 }
 
 // Groups still zero everywhere get the scale s_λ·|dy/dλ| = s_λ·|R_y⁻¹R_λ|: the change of y
-// over the λ range, in y's own unit.
+// over the λ range, in y's own unit; those that do not move with λ either get the scale that
+// balances their Jacobian columns against the others'.
 void SeedZeroGroups(const Linearization& linearization, Scaling* scaling) {
   if (!scaling->HasZeroGroup()) return;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(linearization.jacobian_y);
-  if (!lu.isInvertible()) return;
-  const Eigen::VectorXd dy_dlambda = lu.solve(linearization.jacobian_lambda);
-  scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda);
+  if (lu.isInvertible()) {
+    const Eigen::VectorXd dy_dlambda = lu.solve(linearization.jacobian_lambda);
+    scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda);
+  }
+  if (scaling->HasZeroGroup()) scaling->SeedZeroGroupsFromColumns(linearization.jacobian_y);
 }
 
 class Continuer {
@@ -221,7 +224,8 @@ class Continuer {
       // On a smooth branch the turn shrinks with the step; on a nonsmooth one (a sample of a
       // piecewise law switching branch) the tangent jumps by the same angle however short
       // the step: such a kink is accepted once a halved step no longer reduces the turn.
-      const bool kink = angle_rejection_.has_value() && h <= kKinkStepRatio * angle_rejection_->step &&
+      const bool kink = angle_rejection_.has_value() &&
+                        h <= kKinkStepRatio * angle_rejection_->step &&
                         angle >= kKinkAngleRatio * angle_rejection_->angle;
       if (!kink) {
         angle_rejection_ = AngleRejection{h, angle};

@@ -53,6 +53,22 @@ void Scaling::SeedZeroGroups(const Eigen::VectorXd& y_magnitude) {
   Refresh();
 }
 
+void Scaling::SeedZeroGroupsFromColumns(const Eigen::MatrixXd& jacobian_y) {
+  std::vector<double> column(group_size_.size(), 0.0);
+  double heaviest = 0.0;
+  for (int i = 0; i < num_unknowns(); ++i) {
+    const double norm = jacobian_y.col(i).norm();
+    if (!std::isfinite(norm)) continue;
+    const int g = group_of_[i];
+    column[g] = std::max(column[g], norm);
+    if (group_size_[g] > 0.0) heaviest = std::max(heaviest, norm * group_size_[g]);
+  }
+  for (size_t g = 0; g < group_size_.size(); ++g) {
+    if (group_size_[g] == 0.0 && column[g] > 0.0) group_size_[g] = heaviest / column[g];
+  }
+  Refresh();
+}
+
 bool Scaling::HasZeroGroup() const {
   return std::find(group_size_.begin(), group_size_.end(), 0.0) != group_size_.end();
 }

@@ -25,6 +25,10 @@ class Scaling {
   // Gives groups that are still zero everywhere the magnitude of the matching entries of
   // y_magnitude (a sensitivity such as s_λ·dy/dλ, which carries the unit of y).
   void SeedZeroGroups(const Eigen::VectorXd& y_magnitude);
+  // Gives groups still zero the scale at which their columns of ∂R/∂y weigh as much as the
+  // heaviest scaled column of the other groups (e.g. contact forces that are all zero at the
+  // start and do not move with λ there); groups whose columns vanish keep the floor.
+  void SeedZeroGroupsFromColumns(const Eigen::MatrixXd& jacobian_y);
   bool HasZeroGroup() const;
 
   // Scales of the n unknowns followed by s_λ.

@@ -92,6 +92,65 @@ void ContactGeometry::AddForce(const NonlinearityContext& ctx, const Eigen::Vect
   if (other >= 0) residual.segment(ctx.DofOffset(1), nc) -= direction * force;
 }
 
+LagrangianContactSpec LagrangianContactSpec::Read(InputFields& fields, const LinearModel& model) {
+  LagrangianContactSpec spec;
+  spec.geometry = ContactGeometry::Read(fields, model);
+  if (fields.Has("obstacle_stiffness")) {
+    spec.obstacle_stiffness = fields.RequiredNumber("obstacle_stiffness");
+    if (!(spec.obstacle_stiffness > 0.0) || !std::isfinite(spec.obstacle_stiffness)) {
+      fields.Fail("obstacle_stiffness",
+                  "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+    }
+    if (spec.geometry.other >= 0) {
+      fields.Fail("obstacle_stiffness",
+                  "not allowed with other: the second body is then part of the model");
+    }
+  }
+  if (fields.Has("epsilon")) {
+    spec.epsilon = fields.RequiredNumber("epsilon");
+    if (!(spec.epsilon > 0.0) || !std::isfinite(spec.epsilon)) {
+      fields.Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
+    }
+  }
+  return spec;
+}
+
+void LagrangianContactSpec::Validate() const {
+  if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
+    throw std::invalid_argument("obstacle_stiffness: must be finite and > 0 (0 = rigid)");
+  }
+  if (!(epsilon >= 0.0) || !std::isfinite(epsilon)) {
+    throw std::invalid_argument("epsilon: must be finite and > 0 (0 = default)");
+  }
+  if (obstacle_stiffness > 0.0 && geometry.other >= 0) {
+    throw std::invalid_argument(
+        "obstacle_stiffness: not with other (the second body is then part of the model)");
+  }
+}
+
+std::vector<double> LagrangianContactSpec::ObstacleCompliance() const {
+  if (obstacle_stiffness == 0.0) return {};
+  return {1.0 / obstacle_stiffness};
+}
+
+double LagrangianContactSpec::DefaultEpsilon(const NonlinearityContext& ctx) const {
+  if (obstacle_stiffness > 0.0) return obstacle_stiffness;
+  const Condensation& condensation = *ctx.condensation;
+  if (!condensation.harmonic_set().has_constant()) {
+    throw std::invalid_argument(
+        "epsilon: no default without harmonic 0 (odd_only); give epsilon in N/m");
+  }
+  // Position 0 is harmonic 0 in a full set; its block is K condensed, whatever ω.
+  double sum = 0.0;
+  for (int local : ctx.local_dofs) sum += std::abs(condensation.Z(0)(local, local).real());
+  const double epsilon = sum / static_cast<double>(ctx.local_dofs.size());
+  if (!(epsilon > 0.0) || !std::isfinite(epsilon)) {
+    throw std::invalid_argument(
+        "epsilon: the static stiffness at the contact is zero; give epsilon in N/m");
+  }
+  return epsilon;
+}
+
 std::map<std::string, double> ContactDiagnostics(const ContactState& state,
                                                  const FourierTransform& fine) {
   const Eigen::VectorXd truncated = fine.ToTime(state.force_coefficients).col(0);

@@ -48,6 +48,27 @@ struct ContactGeometry {
                 Eigen::Ref<Eigen::VectorXd> residual) const;
 };
 
+// What the Lagrangian contact laws (dlft_contact, lcp_contact) read from a case file: the
+// geometry, "obstacle_stiffness" (N/m, > 0; absent = rigid, stored as 0) and "epsilon"
+// (N/m, > 0; absent = the law's default, stored as 0).
+struct LagrangianContactSpec {
+  ContactGeometry geometry;
+  double obstacle_stiffness = 0.0;
+  double epsilon = 0.0;
+
+  static LagrangianContactSpec Read(InputFields& fields, const LinearModel& model);
+  // Throws std::invalid_argument naming the field for a negative or non-finite value, or an
+  // obstacle stiffness together with `other`.
+  void Validate() const;
+  // Compliance (m/N) of the obstacle for Nonlinearity::ObstacleCompliance.
+  std::vector<double> ObstacleCompliance() const;
+  // The default ε (N/m), independent of ω: the obstacle stiffness for a flexible obstacle,
+  // else the static (harmonic 0) condensed stiffness at the contact averaged over the
+  // context's DOFs. Throws std::invalid_argument naming "epsilon" if a rigid contact's set
+  // has no harmonic 0 or the static stiffness vanishes.
+  double DefaultEpsilon(const NonlinearityContext& ctx) const;
+};
+
 // Outputs shared by contact laws at a solution. `gap` and `force` are the gap and contact
 // force on the law's N_t samples as the law computed them (force before truncation);
 // `force_coefficients` is the force the harmonic equations see (after truncation).

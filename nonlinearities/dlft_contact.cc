@@ -19,17 +19,8 @@ const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega)
 }  // namespace
 
 DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon)
-    : geometry_(std::move(geometry)), obstacle_stiffness_(obstacle_stiffness), epsilon_(epsilon) {
-  if (!(obstacle_stiffness_ >= 0.0) || !std::isfinite(obstacle_stiffness_)) {
-    throw std::invalid_argument("obstacle_stiffness: must be finite and > 0");
-  }
-  if (!(epsilon_ >= 0.0) || !std::isfinite(epsilon_)) {
-    throw std::invalid_argument("epsilon: must be finite and > 0");
-  }
-  if (obstacle_stiffness_ > 0.0 && geometry_.other >= 0) {
-    throw std::invalid_argument(
-        "obstacle_stiffness: not with other (the second body is then part of the model)");
-  }
+    : spec_{std::move(geometry), obstacle_stiffness, epsilon} {
+  spec_.Validate();
 }
 
 std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
@@ -37,62 +28,22 @@ std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
                                                     const LinearModel& model) {
   InputFields fields(spec, path);
   fields.RequiredString("type");
-  ContactGeometry geometry = ContactGeometry::Read(fields, model);
-  double stiffness = 0.0;
-  if (fields.Has("obstacle_stiffness")) {
-    stiffness = fields.RequiredNumber("obstacle_stiffness");
-    if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
-      fields.Fail("obstacle_stiffness",
-                  "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
-    }
-    if (geometry.other >= 0) {
-      fields.Fail("obstacle_stiffness",
-                  "not allowed with other: the second body is then part of the model");
-    }
-  }
-  double epsilon = 0.0;
-  if (fields.Has("epsilon")) {
-    epsilon = fields.RequiredNumber("epsilon");
-    if (!(epsilon > 0.0) || !std::isfinite(epsilon))
-      fields.Fail("epsilon", "must be finite and > 0");
-  }
+  LagrangianContactSpec read = LagrangianContactSpec::Read(fields, model);
   fields.Finish();
-  return std::make_unique<DlftContact>(std::move(geometry), stiffness, epsilon);
-}
-
-std::vector<double> DlftContact::ObstacleCompliance() const {
-  if (obstacle_stiffness_ == 0.0) return {};
-  return {1.0 / obstacle_stiffness_};
+  return std::make_unique<DlftContact>(std::move(read.geometry), read.obstacle_stiffness,
+                                       read.epsilon);
 }
 
 void DlftContact::set_epsilon(double epsilon) {
   if (!(epsilon > 0.0) || !std::isfinite(epsilon)) {
     throw std::invalid_argument("epsilon: must be finite and > 0");
   }
-  epsilon_ = epsilon;
-}
-
-double DlftContact::DefaultEpsilon(const NonlinearityContext& ctx) const {
-  if (obstacle_stiffness_ > 0.0) return obstacle_stiffness_;
-  const Condensation& condensation = *ctx.condensation;
-  if (!condensation.harmonic_set().has_constant()) {
-    throw std::invalid_argument(
-        "epsilon: no default without harmonic 0 (odd_only); give epsilon in N/m");
-  }
-  // Position 0 is harmonic 0 in a full set; its block is K condensed, whatever ω.
-  double sum = 0.0;
-  for (int local : ctx.local_dofs) sum += std::abs(condensation.Z(0)(local, local).real());
-  const double epsilon = sum / static_cast<double>(ctx.local_dofs.size());
-  if (!(epsilon > 0.0) || !std::isfinite(epsilon)) {
-    throw std::invalid_argument(
-        "epsilon: the static stiffness at the contact is zero; give epsilon in N/m");
-  }
-  return epsilon;
+  spec_.epsilon = epsilon;
 }
 
 double DlftContact::EpsilonFor(const NonlinearityContext& ctx) const {
-  if (epsilon_ > 0.0) return epsilon_;
-  if (!resolved_epsilon_) resolved_epsilon_ = DefaultEpsilon(ctx);
+  if (spec_.epsilon > 0.0) return spec_.epsilon;
+  if (!resolved_epsilon_) resolved_epsilon_ = spec_.DefaultEpsilon(ctx);
   return *resolved_epsilon_;
 }
 
@@ -102,7 +53,7 @@ DlftContact::LinearRows DlftContact::Rows(const NonlinearityContext& ctx, double
   const int a = ctx.local_dofs[0];
   LinearRows rows{condensation.RealOperatorRows(a, derivative),
                   condensation.RealForcingRows(a, derivative)};
-  if (geometry_.other >= 0) {
+  if (spec_.geometry.other >= 0) {
     const int b = ctx.local_dofs[1];
     rows.a = 0.5 * (rows.a - condensation.RealOperatorRows(b, derivative));
     rows.b = 0.5 * (rows.b - condensation.RealForcingRows(b, derivative));
@@ -115,8 +66,9 @@ DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
                                              double epsilon) const {
   const auto x = y.head(rows.a.cols());
   Prediction p;
-  p.gap = geometry_.GapOf(ctx, y);
-  const Eigen::VectorXd predicted = -geometry_.direction * (rows.a * x - rows.b) - epsilon * p.gap;
+  p.gap = spec_.geometry.GapOf(ctx, y);
+  const Eigen::VectorXd predicted =
+      -spec_.geometry.direction * (rows.a * x - rows.b) - epsilon * p.gap;
   const Eigen::VectorXd lambda_x = ctx.fourier->ToTime(predicted).col(0);
   p.mask = (lambda_x.array() > 0.0).cast<double>();
   p.state.force = lambda_x.cwiseProduct(p.mask);
@@ -136,13 +88,13 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
   const double epsilon = EpsilonFor(ctx);
   const LinearRows rows = Rows(ctx, omega, false);
   const Prediction p = Predict(ctx, y, rows, epsilon);
-  geometry_.AddForce(ctx, p.state.force_coefficients, residual);
+  spec_.geometry.AddForce(ctx, p.state.force_coefficients, residual);
   if (jacobian == nullptr && d_omega == nullptr) return;
 
   const int nc = ctx.num_coefficients();
   const int nx = static_cast<int>(rows.a.cols());
-  const double n = geometry_.direction;
-  const bool pair = geometry_.other >= 0;
+  const double n = spec_.geometry.direction;
+  const bool pair = spec_.geometry.other >= 0;
   const Eigen::MatrixXd masked = ctx.fourier->WeightedProduct(p.mask);
 
   if (jacobian != nullptr) {
@@ -167,9 +119,9 @@ std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
                                             const FourierTransform& fine) const {
   const Prediction p = PredictAt(ctx, y, omega);
   std::vector<LawSignal> signals = ContactSignals(p.state, p.gap, fine);
-  if (obstacle_stiffness_ > 0.0) {
+  if (spec_.obstacle_stiffness > 0.0) {
     // The obstacle spring carries the (truncated) contact force: x_obs = n λ / k_obs.
-    signals.push_back({"obstacle", geometry_.direction / obstacle_stiffness_ *
+    signals.push_back({"obstacle", spec_.geometry.direction / spec_.obstacle_stiffness *
                                        fine.ToTime(p.state.force_coefficients).col(0)});
   }
   return signals;

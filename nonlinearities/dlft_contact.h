@@ -31,8 +31,8 @@ class DlftContact : public Nonlinearity {
                                                 const LinearModel& model);
 
   std::string type() const override { return "dlft_contact"; }
-  std::vector<int> Dofs() const override { return geometry_.Dofs(); }
-  std::vector<double> ObstacleCompliance() const override;
+  std::vector<int> Dofs() const override { return spec_.geometry.Dofs(); }
+  std::vector<double> ObstacleCompliance() const override { return spec_.ObstacleCompliance(); }
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
@@ -44,19 +44,19 @@ class DlftContact : public Nonlinearity {
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const override;
 
-  // The default ε (N/m), independent of ω: the obstacle stiffness for a flexible obstacle,
-  // else the static (harmonic 0) condensed stiffness at the contact averaged over the law's
-  // DOFs. A smaller ε lets the sampled gap drift from the contact law (2 % on NLvib's
-  // two-DOF case at H = 21 with ε = the static 0.5 instead of k_obs = 100). Throws
-  // std::invalid_argument naming "epsilon" if a rigid contact's set has no harmonic 0.
-  double DefaultEpsilon(const NonlinearityContext& ctx) const;
+  // The default ε (LagrangianContactSpec::DefaultEpsilon). A smaller ε lets the sampled gap
+  // drift from the contact law (2 % on NLvib's two-DOF case at H = 21 with ε = the static
+  // 0.5 instead of k_obs = 100).
+  double DefaultEpsilon(const NonlinearityContext& ctx) const { return spec_.DefaultEpsilon(ctx); }
 
   // ε in use (the configured one, or the default once resolved by an evaluation; 0 before).
-  double epsilon() const { return epsilon_ > 0.0 ? epsilon_ : resolved_epsilon_.value_or(0.0); }
+  double epsilon() const {
+    return spec_.epsilon > 0.0 ? spec_.epsilon : resolved_epsilon_.value_or(0.0);
+  }
   // For ε-refinement: sets ε (N/m, > 0) for later evaluations.
   void set_epsilon(double epsilon);
-  const ContactGeometry& geometry() const { return geometry_; }
-  double obstacle_stiffness() const { return obstacle_stiffness_; }
+  const ContactGeometry& geometry() const { return spec_.geometry; }
+  double obstacle_stiffness() const { return spec_.obstacle_stiffness; }
 
  private:
   // The condensed linear equations the prediction reads: rows L = A x − b of the contact
@@ -78,9 +78,7 @@ class DlftContact : public Nonlinearity {
                        double omega) const;
   double EpsilonFor(const NonlinearityContext& ctx) const;
 
-  ContactGeometry geometry_;
-  double obstacle_stiffness_;
-  double epsilon_;
+  LagrangianContactSpec spec_;
   // Default ε, resolved at the first evaluation (it depends only on K and the obstacle).
   mutable std::optional<double> resolved_epsilon_;
 };

@@ -62,6 +62,19 @@ class Nonlinearity {
                         Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                         Eigen::VectorXd* d_omega) const = 0;
 
+  // Whether the own unknowns are signals in the HarmonicSet layout (blocks of
+  // NumCoefficients), which a start from fewer harmonics may re-express; false for samples.
+  virtual bool OwnUnknownsAreCoefficients() const { return true; }
+
+  // Whether the continuation engine should scale the own unknowns with the displacements
+  // (they are in metres) rather than as a group of their own.
+  virtual bool OwnUnknownsScaleLikeDisplacements() const { return false; }
+
+  // Throws std::invalid_argument naming the case field if Newton-based continuation cannot
+  // follow the law with this harmonic set (e.g. a sampled complementarity that needs a square
+  // Fourier matrix). Default: it can.
+  virtual void CheckForContinuation(const HarmonicSet& /*set*/) const {}
+
   // A starting value of the own unknowns given the displacements in y (default zeros).
   virtual void InitialOwnUnknowns(const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/,
                                   double /*omega*/, Eigen::Ref<Eigen::VectorXd> own) const {

@@ -3,6 +3,7 @@
 #include "core/input_fields.h"
 #include "nonlinearities/coulomb_friction.h"
 #include "nonlinearities/dlft_contact.h"
+#include "nonlinearities/lcp_contact.h"
 #include "nonlinearities/penalty_contact.h"
 #include "nonlinearities/polynomial_spring.h"
 
@@ -13,6 +14,7 @@ const std::map<std::string, NonlinearityFactory>& NonlinearityRegistry() {
       {"coulomb_friction", &CoulombFriction::FromJson},
       {"cubic_spring", &PolynomialSpring::CubicFromJson},
       {"dlft_contact", &DlftContact::FromJson},
+      {"lcp_contact", &LcpContact::FromJson},
       {"penalty_contact", &PenaltyContact::FromJson},
       {"polynomial_spring", &PolynomialSpring::PolynomialFromJson},
   };

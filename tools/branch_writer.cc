@@ -13,8 +13,17 @@
 namespace nfrc {
 namespace {
 
-nlohmann::json OptionsToJson(const ContinuationOptions& o) {
-  return {{"omega_start", o.lambda_start},
+nlohmann::json OptionsToJson(const Case& the_case) {
+  const ContinuationOptions& o = the_case.continuation;
+  if (the_case.method == "lemke_stepping") {
+    return {{"method", the_case.method},
+            {"omega_start", o.lambda_start},
+            {"omega_end", o.lambda_end},
+            {"points", the_case.stepping.points},
+            {"track_contact", the_case.stepping.track_contact}};
+  }
+  return {{"method", the_case.method},
+          {"omega_start", o.lambda_start},
           {"omega_end", o.lambda_end},
           {"step", o.initial_step},
           {"min_step", o.min_step},
@@ -53,11 +62,13 @@ nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
           {"history", history}};
 }
 
-BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system)
+BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system,
+                           bool solve_signals)
     : dir_(std::move(dir)),
       case_(the_case),
       system_(system),
-      analyzer_(system, the_case.output_dofs) {
+      analyzer_(system, the_case.output_dofs),
+      solve_signals_(solve_signals) {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
   if (error)
@@ -82,7 +93,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
                  {"list", set.harmonics()}}},
                {"output_dofs", case_.output_names},
                {"unknowns", system_.NumUnknowns()},
-               {"options", OptionsToJson(case_.continuation)},
+               {"options", OptionsToJson(case_)},
                {"points", nlohmann::json::array()},
                {"folds", nlohmann::json::array()},
                {"signals", nlohmann::json::array()},
@@ -90,30 +101,43 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
   WriteJson();
 }
 
-bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
-  const PointMeasures m = analyzer_.Measure(point.y, point.lambda);
-  nlohmann::json entry = {{"index", index},
-                          {"omega", point.lambda},
-                          {"step", point.step},
-                          {"newton_iterations", point.newton_iterations},
-                          {"residual_norm", point.residual_norm},
-                          {"tangent_omega", point.tangent_lambda},
-                          {"energy", m.energy},
+nlohmann::json BranchWriter::Measure(const Eigen::VectorXd& y, double omega) {
+  const PointMeasures m = analyzer_.Measure(y, omega);
+  nlohmann::json entry = {{"energy", m.energy},
                           {"max_abs", m.max_abs},
                           {"min", m.min},
                           {"max", m.max},
                           {"h1", m.h1},
                           {"amplitudes", m.amplitudes},
-                          {"laws", LawDiagnostics(point.y, point.lambda)}};
+                          {"laws", LawDiagnostics(y, omega)}};
   AddContactExtremes(entry);
+  return entry;
+}
+
+void BranchWriter::AnnotateLastPoint(const nlohmann::json& extra) {
+  document_["points"].back().update(extra);
+}
+
+bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
+  nlohmann::json entry = {{"index", index},
+                          {"omega", point.lambda},
+                          {"step", point.step},
+                          {"newton_iterations", point.newton_iterations},
+                          {"residual_norm", point.residual_norm},
+                          {"tangent_omega", point.tangent_lambda}};
+  const nlohmann::json measures = Measure(point.y, point.lambda);
+  entry.update(measures);
+  const double energy = measures["energy"].get<double>();
+  const std::vector<double> max_abs = measures["max_abs"];
+  const std::vector<double> h1 = measures["h1"];
   document_["points"].push_back(std::move(entry));
   csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations << ','
-       << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
-  for (double v : m.max_abs) csv_ << ',' << v;
-  for (double v : m.h1) csv_ << ',' << v;
+       << point.residual_norm << ',' << point.tangent_lambda << ',' << energy;
+  for (double v : max_abs) csv_ << ',' << v;
+  for (double v : h1) csv_ << ',' << v;
   csv_ << '\n' << std::flush;
 
-  for (double omega : case_.signals_at) {
+  for (double omega : solve_signals_ ? case_.signals_at : std::vector<double>{}) {
     const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
     if (const auto solved = SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
       WriteSignals(omega, solved->y, point.lambda == omega ? index : index - 1, solved->converged,
@@ -211,20 +235,14 @@ const nlohmann::json& BranchWriter::WriteSignals(double omega, const Eigen::Vect
     WriteCsv(dir_ + "/" + samples_name, raw_columns, raw);
   }
 
-  const PointMeasures m = analyzer_.Measure(y, omega);
   nlohmann::json entry = {{"omega", omega},
                           {"file", name},
                           {"after_point", after_point},
                           {"converged", converged},
-                          {"note", note},
-                          {"energy", m.energy},
-                          {"max_abs", m.max_abs},
-                          {"min", m.min},
-                          {"max", m.max},
-                          {"h1", m.h1},
-                          {"laws", LawDiagnostics(y, omega)}};
+                          {"note", note}};
+  entry.update(Measure(y, omega));
+  entry.erase("amplitudes");
   if (!samples_name.empty()) entry["samples_file"] = samples_name;
-  AddContactExtremes(entry);
   document_["signals"].push_back(std::move(entry));
   WriteJson();
   return document_["signals"].back();

@@ -21,13 +21,23 @@ class BranchWriter : public ContinuationObserver {
  public:
   static constexpr std::chrono::milliseconds kJsonInterval{2000};
 
-  // Creates `dir` if needed; throws std::runtime_error if it cannot write there.
-  BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system);
+  // Creates `dir` if needed; throws std::runtime_error if it cannot write there. With
+  // `solve_signals` false, OnPoint does not solve for the case's signals_at frequencies by
+  // Newton (for drivers that are not Newton-based and call WriteSignals themselves).
+  BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system,
+               bool solve_signals = true);
 
   bool OnPoint(const BranchPoint& point, int index) override;
   // Also writes the time signals at every requested ω the segment from the previous point
   // crosses (solved at exactly that ω) to DIR/signals_<n>.csv.
   void OnFold(const Fold& fold) override;
+
+  // Merges `extra` into the last point's record (e.g. a driver's per-point solver data).
+  void AnnotateLastPoint(const nlohmann::json& extra);
+
+  // Measures of solution y at ω as the point records hold them: energy, max_abs, min, max,
+  // h1, laws (diagnostics) and, for contact cases, min_gap and min_force.
+  nlohmann::json Measure(const Eigen::VectorXd& y, double omega);
 
   // Writes the final branch.json with the summary.
   void Finish(const ContinuationSummary& summary);
@@ -56,6 +66,7 @@ class BranchWriter : public ContinuationObserver {
   std::chrono::steady_clock::duration last_json_duration_{};
   std::optional<BranchPoint> previous_;
   int num_signals_ = 0;
+  bool solve_signals_;
 };
 
 // nlohmann::json summary of a continuation run.

@@ -15,7 +15,8 @@ HarmonicSet ReadHarmonics(const nlohmann::json& spec) {
   const bool odd_only = fields.OptionalBool("odd_only", false);
   const int samples = fields.OptionalInt("samples", 0);
   fields.Finish();
-  if (max_harmonic < 1) fields.Fail("max", "must be at least 1, got " + std::to_string(max_harmonic));
+  if (max_harmonic < 1)
+    fields.Fail("max", "must be at least 1, got " + std::to_string(max_harmonic));
   if (fields.Has("samples") && samples < 2 * max_harmonic + 1) {
     fields.Fail("samples", "must be at least 2*max+1 = " + std::to_string(2 * max_harmonic + 1) +
                                ", got " + std::to_string(samples));
@@ -23,7 +24,7 @@ HarmonicSet ReadHarmonics(const nlohmann::json& spec) {
   return HarmonicSet(max_harmonic, odd_only, samples);
 }
 
-ContinuationOptions ReadContinuation(const nlohmann::json& spec) {
+ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
   InputFields fields(spec, "continuation");
   ContinuationOptions options;
   options.lambda_start = fields.RequiredNumber("omega_start");
@@ -32,6 +33,21 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec) {
   if (options.lambda_end <= 0.0) fields.Fail("omega_end", "must be positive");
   if (options.lambda_end == options.lambda_start) {
     fields.Fail("omega_end", "must differ from omega_start");
+  }
+  options.lambda_name = "omega";
+  result.method = fields.OptionalString("method", "arclength");
+  if (result.method == "lemke_stepping") {
+    // The arclength settings do not apply; Finish() rejects them.
+    result.stepping.points = fields.OptionalInt("points", result.stepping.points);
+    if (result.stepping.points < 2) fields.Fail("points", "must be at least 2");
+    result.stepping.track_contact =
+        fields.OptionalBool("track_contact", result.stepping.track_contact);
+    fields.Finish();
+    return options;
+  }
+  if (result.method != "arclength") {
+    fields.Fail("method",
+                "must be \"arclength\" or \"lemke_stepping\", got \"" + result.method + "\"");
   }
   options.initial_step = fields.OptionalNumber("step", options.initial_step);
   options.min_step = fields.OptionalNumber("min_step", options.min_step);
@@ -49,7 +65,6 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec) {
   options.fold_tolerance = fields.OptionalNumber("fold_tolerance", options.fold_tolerance);
   options.line_search = fields.OptionalBool("line_search", options.line_search);
   fields.Finish();
-  options.lambda_name = "omega";
   try {
     options.Validate();
   } catch (const std::invalid_argument& error) {
@@ -87,7 +102,7 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
     }
   }
 
-  result.continuation = ReadContinuation(fields.RequiredObject("continuation"));
+  result.continuation = ReadContinuation(fields.RequiredObject("continuation"), result);
 
   InputFields output(fields.RequiredObject("output"), "output");
   const nlohmann::json& dofs = output.RequiredValue("dofs");

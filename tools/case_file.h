@@ -12,6 +12,13 @@
 
 namespace nfrc {
 
+// Natural-parameter LCP-HBM stepping (continuation.method "lemke_stepping").
+struct SteppingOptions {
+  int points = 201;  // evenly spaced ω from omega_start to omega_end, both included
+  bool track_contact =
+      true;  // warm-start Lemke where the cold solve is trivial (see lcp_stepping.h)
+};
+
 // A parsed case file: everything `nfrc run` needs, validated.
 struct Case {
   std::string path;       // file it came from (empty if parsed from memory)
@@ -20,7 +27,11 @@ struct Case {
   ModelDefinition model;
   HarmonicSet harmonics{1, false};
   std::vector<std::unique_ptr<Nonlinearity>> laws;
+  // "arclength" (the continuation engine) or "lemke_stepping" (LCP-HBM, lcp_stepping.h);
+  // both take the ω range from `continuation`.
+  std::string method = "arclength";
   ContinuationOptions continuation;
+  SteppingOptions stepping;
   std::vector<int> output_dofs;           // model DOF indices
   std::vector<std::string> output_names;  // as the case names them (index or name)
   std::vector<double> signals_at;         // ω at which time signals are written

@@ -10,6 +10,7 @@
 #include "core/input_fields.h"
 #include "nonlinearities/dlft_contact.h"
 #include "tools/branch_writer.h"
+#include "tools/lcp_hbm.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -46,6 +47,77 @@ std::string Format(double value) {
   out.precision(6);
   out << value;
   return out.str();
+}
+
+// The LCP-HBM solution the refinement tends to: the same case with every dlft_contact
+// turned into lcp_contact (same fields), solved by Lemke at ω; its signals and samples go to
+// DIR/lcp/. Unknowns have the DLFT system's displacements first, then the forces λ.
+struct LcpReference {
+  Case twin;
+  std::unique_ptr<HarmonicSystem> system;
+  LcpHbm::Solution solution;
+  nlohmann::json record;
+};
+
+std::unique_ptr<LcpReference> SolveLcpReference(const Case& the_case, double omega,
+                                                const std::string& out_dir) {
+  nlohmann::json source = the_case.source;
+  for (nlohmann::json& law : source["nonlinearities"]) {
+    if (law.value("type", "") != "dlft_contact") return nullptr;
+    law["type"] = "lcp_contact";
+  }
+  auto reference = std::make_unique<LcpReference>();
+  reference->twin = ParseCase(source, the_case.base_dir);
+  reference->twin.signals_at.clear();
+  reference->system = MakeSystem(reference->twin);
+  LcpHbm lcp(*reference->system);
+  reference->solution = lcp.Solve(omega);
+  BranchWriter writer(out_dir + "/lcp", reference->twin, *reference->system, false);
+  reference->record = writer.WriteSignals(omega, reference->solution.y, -1,
+                                          reference->solution.lemke.ok(), "LCP-HBM (Lemke)");
+  ContinuationSummary summary;
+  summary.reason = TerminationReason::kReachedLambdaBound;
+  summary.message = "LCP-HBM at one frequency: Lemke " + ToString(reference->solution.lemke.status);
+  writer.Finish(summary);
+  return reference;
+}
+
+double RelativeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b, bool max_norm) {
+  const double scale = max_norm ? b.cwiseAbs().maxCoeff() : b.norm();
+  const double distance = max_norm ? (a - b).cwiseAbs().maxCoeff() : (a - b).norm();
+  return scale > 0.0 ? distance / scale : distance;
+}
+
+// Distances of a DLFT solution y to the LCP-HBM reference on the same samples: raw forces
+// (before truncation) and gaps in the max norm, truncated force coefficients and the
+// condensed displacements in the 2-norm, each relative to the reference.
+nlohmann::json DistanceToLcp(HarmonicSystem& system, const Eigen::VectorXd& y, double omega,
+                             const LcpReference& reference) {
+  const int nx = system.num_displacement_unknowns();
+  const int nt = system.harmonic_set().num_samples();
+  Eigen::VectorXd force_raw(nt * system.laws().size());
+  Eigen::VectorXd force(nt * system.laws().size());
+  Eigen::VectorXd gap(nt * system.laws().size());
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    const auto samples =
+        system.laws()[i]->RawSamples(system.context(static_cast<int>(i)), y, omega);
+    for (const LawSignal& signal : samples) {
+      if (signal.name == "gap") gap.segment(i * nt, nt) = signal.samples;
+      if (signal.name == "force_raw") force_raw.segment(i * nt, nt) = signal.samples;
+      if (signal.name == "force") force.segment(i * nt, nt) = signal.samples;
+    }
+  }
+  const LcpHbm::Solution& lcp = reference.solution;
+  const FourierTransform& fourier = system.fourier();
+  Eigen::VectorXd lcp_force(force.size());
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    lcp_force.segment(i * nt, nt) =
+        fourier.ToTime(fourier.ToCoefficients(lcp.lambda.segment(i * nt, nt))).col(0);
+  }
+  return {{"force_raw", RelativeDistance(force_raw, lcp.lambda, true)},
+          {"force", RelativeDistance(force, lcp_force, false)},
+          {"gap", RelativeDistance(gap, lcp.gap, true)},
+          {"displacement", RelativeDistance(y.head(nx), lcp.y.head(nx), false)}};
 }
 
 }  // namespace
@@ -98,6 +170,21 @@ nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
                             : "the branch did not reach omega: " + branch.summary.message;
   } else {
     Eigen::VectorXd y = observer.solution()->y;
+    const std::unique_ptr<LcpReference> reference =
+        SolveLcpReference(the_case, options.omega, out_dir);
+    if (reference) {
+      const LcpHbm::Solution& lcp = reference->solution;
+      result["lcp"] = {
+          {"status", ToString(lcp.lemke.status)},
+          {"pivots", lcp.lemke.pivots},
+          {"complementarity_gap", lcp.complementarity_gap},
+          {"min_gap", lcp.gap.minCoeff()},
+          {"max_abs", reference->record["max_abs"]},
+          {"h1", reference->record["h1"]},
+          {"min_force", reference->record["min_force"]},
+          {"signals_file", "lcp/" + reference->record["file"].get<std::string>()},
+          {"samples_file", "lcp/" + reference->record.value("samples_file", std::string())}};
+    }
     for (double epsilon : options.epsilons) {
       for (DlftContact* law : dlft) law->set_epsilon(epsilon);
       const FixedLambdaSolution solved =
@@ -116,6 +203,9 @@ nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
                              {"signals_file", record["file"]},
                              {"samples_file", record.value("samples_file", "")},
                              {"laws", record["laws"]}};
+      if (reference && reference->solution.lemke.ok()) {
+        step["distance_to_lcp"] = DistanceToLcp(*system, solved.y, options.omega, *reference);
+      }
       result["steps"].push_back(step);
       if (progress != nullptr) {
         *progress << "refine: epsilon=" << epsilon << "  converged=" << solved.converged

@@ -28,7 +28,11 @@ std::vector<double> GeometricEpsilons(double epsilon0, double factor, int steps)
 // samples are written as by `nfrc run` (signals_<i>.csv, samples_<i>.csv), and
 // DIR/refinement.json lists per step: epsilon, converged, newton_iterations, residual_norm,
 // min_gap, max_penetration, min_force, contact_fraction, max_abs, h1 and the files. Steps
-// after a failed one are not attempted. Returns refinement.json's content.
+// after a failed one are not attempted. When every law is dlft_contact, the LCP-HBM limit
+// (the same case with lcp_contact, Lemke at ω) is written to DIR/lcp/ and refinement.json's
+// "lcp", and each step gets "distance_to_lcp": relative distances of the raw force and gap
+// (max norm), the truncated force and the condensed displacements (2-norm) to it.
+// Returns refinement.json's content.
 // Throws InputError if the case has no dlft_contact law.
 nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
                              const std::string& out_dir, std::ostream* progress);

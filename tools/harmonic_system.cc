@@ -134,7 +134,8 @@ std::vector<int> HarmonicSystem::ScaleGroups() const {
   std::vector<int> groups(num_unknowns_, 0);
   for (size_t i = 0; i < laws_.size(); ++i) {
     const int count = laws_[i]->NumOwnUnknowns(harmonic_set());
-    std::fill_n(groups.begin() + contexts_[i].own_offset, count, static_cast<int>(i) + 1);
+    const int group = laws_[i]->OwnUnknownsScaleLikeDisplacements() ? 0 : static_cast<int>(i) + 1;
+    std::fill_n(groups.begin() + contexts_[i].own_offset, count, group);
   }
   return groups;
 }
@@ -162,6 +163,16 @@ Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
     }
   }
   return y;
+}
+
+const Eigen::MatrixXd& HarmonicSystem::LinearOperator(double omega) {
+  MoveTo(omega);
+  return z_;
+}
+
+const Eigen::VectorXd& HarmonicSystem::LinearForcing(double omega) {
+  MoveTo(omega);
+  return f_;
 }
 
 Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double omega, int dof) {

@@ -27,7 +27,8 @@ class HarmonicSystem : public ContinuationProblem {
   int NumUnknowns() const override { return num_unknowns_; }
   bool Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
                 Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) override;
-  // Group 0: displacement coefficients; group i + 1: own unknowns of law i.
+  // Group 0: displacement coefficients (and own unknowns in metres); group i + 1: own
+  // unknowns of law i.
   std::vector<int> ScaleGroups() const override;
 
   // The linear response x = Z_red⁻¹ F_red at ω with the laws' own starting values.
@@ -40,6 +41,10 @@ class HarmonicSystem : public ContinuationProblem {
 
   // Coefficients of every model DOF (num_dofs × NumCoefficients, row = DOF) in solution y.
   Eigen::MatrixXd AllDofCoefficients(const Eigen::VectorXd& y, double omega);
+
+  // The real condensed operator A and forcing b of the linear part at ω: R = A x − b + Σ f_law.
+  const Eigen::MatrixXd& LinearOperator(double omega);
+  const Eigen::VectorXd& LinearForcing(double omega);
 
   const FourierTransform& fourier() const { return fourier_; }
   const HarmonicSet& harmonic_set() const { return fourier_.harmonic_set(); }

@@ -4,7 +4,9 @@
 #include <ostream>
 
 #include "continuation/fixed_lambda.h"
+#include "core/input_fields.h"
 #include "tools/branch_writer.h"
+#include "tools/lcp_stepping.h"
 
 namespace nfrc {
 namespace {
@@ -34,6 +36,14 @@ std::unique_ptr<HarmonicSystem> MakeSystem(Case& the_case) {
 
 Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
              ContinuationObserver* observer, const Eigen::VectorXd* guess) {
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    try {
+      system.laws()[i]->CheckForContinuation(system.harmonic_set());
+    } catch (const std::invalid_argument& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "] (" + system.laws()[i]->type() +
+                       "): " + error.what());
+    }
+  }
   const Eigen::VectorXd start =
       guess != nullptr ? *guess : system.InitialGuess(options.lambda_start);
   Branch branch = Continue(system, start, options, observer);
@@ -66,7 +76,10 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
   if (coarse_h >= set.max_harmonic()) return linear;
   const int block = set.NumCoefficients();
   for (const auto& law : system.laws()) {
-    if (law->NumOwnUnknowns(set) % block != 0) return linear;  // not signals: no ladder
+    // Only own unknowns that are coefficient signals can move between harmonic sets.
+    if (!law->OwnUnknownsAreCoefficients() || law->NumOwnUnknowns(set) % block != 0) {
+      return linear;
+    }
   }
   if (progress != nullptr) {
     *progress << "nfrc: no start from the linear guess with H=" << set.max_harmonic()
@@ -77,14 +90,14 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
   Case coarse_case = ParseCase(source, the_case.base_dir);
   std::unique_ptr<HarmonicSystem> coarse_system = MakeSystem(coarse_case);
   const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress);
-  const Eigen::VectorXd padded =
-      ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
+  const Eigen::VectorXd padded = ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
   solved = SolveAtFixedLambda(system, padded, omega, padded, options);
   return solved.converged ? solved.y : linear;
 }
 
 Branch RunCase(Case& the_case, const std::string& out_dir, std::ostream* progress,
                const std::atomic<bool>* stop) {
+  if (the_case.method == "lemke_stepping") return RunLcpStepping(the_case, out_dir, progress, stop);
   std::unique_ptr<HarmonicSystem> system = MakeSystem(the_case);
   BranchWriter writer(out_dir, the_case, *system);
   StoppableObserver observer(writer, stop);
@@ -93,8 +106,8 @@ Branch RunCase(Case& the_case, const std::string& out_dir, std::ostream* progres
   if (progress != nullptr) {
     *progress << "nfrc: " << system->NumUnknowns() << " unknowns ("
               << the_case.harmonics.num_harmonics() << " harmonics, "
-              << the_case.harmonics.num_samples() << " samples), omega "
-              << options.lambda_start << " -> " << options.lambda_end << "\n";
+              << the_case.harmonics.num_samples() << " samples), omega " << options.lambda_start
+              << " -> " << options.lambda_end << "\n";
   }
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, progress);
   Branch branch = Trace(*system, options, &observer, &guess);

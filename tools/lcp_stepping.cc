@@ -1,0 +1,147 @@
+#include "tools/lcp_stepping.h"
+
+#include <algorithm>
+#include <chrono>
+#include <ostream>
+
+#include "tools/branch_writer.h"
+#include "tools/lcp_hbm.h"
+#include "tools/run_case.h"
+
+namespace nfrc {
+namespace {
+
+// The stepping grid: `points` even steps plus the signals_at frequencies inside the range,
+// ordered from omega_start to omega_end.
+std::vector<double> Grid(const Case& the_case) {
+  const double start = the_case.continuation.lambda_start;
+  const double end = the_case.continuation.lambda_end;
+  const int points = the_case.stepping.points;
+  std::vector<double> grid;
+  for (int i = 0; i < points; ++i) grid.push_back(start + (end - start) * i / (points - 1));
+  for (double omega : the_case.signals_at) {
+    if (omega >= std::min(start, end) && omega <= std::max(start, end)) grid.push_back(omega);
+  }
+  if (end > start) {
+    std::sort(grid.begin(), grid.end());
+  } else {
+    std::sort(grid.begin(), grid.end(), std::greater<double>());
+  }
+  grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+  return grid;
+}
+
+nlohmann::json LemkeJson(const LcpHbm::Solution& s) {
+  return {{"status", ToString(s.lemke.status)},
+          {"pivots", s.lemke.pivots},
+          {"trivial", s.lemke.trivial},
+          {"warm_started", s.lemke.warm_started},
+          {"complementarity", s.lemke.complementarity},
+          {"feasibility", s.lemke.feasibility},
+          {"complementarity_gap", s.complementarity_gap}};
+}
+
+bool HasContact(const LcpHbm::Solution& s) { return s.lambda.maxCoeff() > 0.0; }
+
+}  // namespace
+
+Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* progress,
+                      const std::atomic<bool>* stop) {
+  const auto started = std::chrono::steady_clock::now();
+  std::unique_ptr<HarmonicSystem> system = MakeSystem(the_case);
+  LcpHbm lcp(*system);
+  BranchWriter writer(out_dir, the_case, *system, /*solve_signals=*/false);
+  const std::vector<double> grid = Grid(the_case);
+  if (progress != nullptr) {
+    *progress << "nfrc: LCP-HBM stepping, " << lcp.num_samples() << " complementarity pairs ("
+              << the_case.harmonics.num_harmonics() << " harmonics, "
+              << the_case.harmonics.num_samples() << " samples), " << grid.size() << " frequencies "
+              << grid.front() << " -> " << grid.back() << "\n";
+  }
+  Branch branch;
+  ContinuationSummary& summary = branch.summary;
+  std::vector<int> contact_basis;  // Lemke basis of the last solution with contact
+  int failures = 0;
+  int coexisting = 0;
+  for (double omega : grid) {
+    if (stop != nullptr && stop->load()) {
+      summary.reason = TerminationReason::kStoppedByObserver;
+      break;
+    }
+    StepRecord record;
+    LcpHbm::Solution cold = lcp.Solve(omega);
+    record.newton_iterations = cold.lemke.pivots;
+    if (!cold.lemke.ok()) {
+      ++failures;
+      record.note = "omega " + std::to_string(omega) + ": Lemke " + ToString(cold.lemke.status) +
+                    ": " + cold.lemke.message;
+      summary.history.push_back(record);
+      ++summary.num_rejected_steps;
+      if (progress != nullptr) *progress << "nfrc: " << record.note << "\n";
+      continue;
+    }
+    nlohmann::json info = LemkeJson(cold);
+    info["coexisting_contact"] = false;
+    std::optional<LcpHbm::Solution> warm;
+    if (HasContact(cold)) {
+      contact_basis = cold.lemke.basic_z;
+    } else if (the_case.stepping.track_contact && !contact_basis.empty()) {
+      LemkeOptions options;
+      options.warm_basis = contact_basis;
+      warm = lcp.Solve(omega, options);
+      if (warm->lemke.ok() && HasContact(*warm)) {
+        contact_basis = warm->lemke.basic_z;
+        info["coexisting_contact"] = true;
+        ++coexisting;
+      } else {
+        contact_basis.clear();
+        warm.reset();
+      }
+    }
+    BranchPoint point;
+    point.lambda = omega;
+    point.y = cold.y;
+    point.tangent_y = Eigen::VectorXd::Zero(cold.y.size());
+    point.residual_norm = cold.lemke.equation_residual;
+    const int index = static_cast<int>(branch.points.size());
+    writer.OnPoint(point, index);
+    if (warm) {
+      nlohmann::json contact = writer.Measure(warm->y, omega);
+      contact["lcp"] = LemkeJson(*warm);
+      info["contact_branch"] = std::move(contact);
+    }
+    writer.AnnotateLastPoint({{"lcp", info}});
+    if (std::find(the_case.signals_at.begin(), the_case.signals_at.end(), omega) !=
+        the_case.signals_at.end()) {
+      writer.WriteSignals(omega, cold.y, index, true, "LCP-HBM (Lemke, cold start)");
+      if (warm) writer.WriteSignals(omega, warm->y, index, true, "coexisting contact solution");
+    }
+    branch.points.push_back(std::move(point));
+    record.accepted = true;
+    summary.history.push_back(record);
+    ++summary.num_accepted_steps;
+    summary.total_newton_iterations += cold.lemke.pivots;
+    if (progress != nullptr) {
+      *progress << "nfrc: point " << index << " omega=" << omega << " pivots=" << cold.lemke.pivots
+                << (HasContact(cold) ? " contact" : " trivial")
+                << (warm ? " (coexisting contact found by warm start)" : "") << "\n";
+    }
+  }
+  if (summary.reason != TerminationReason::kStoppedByObserver) {
+    summary.reason = TerminationReason::kReachedLambdaBound;
+  }
+  summary.num_points = static_cast<int>(branch.points.size());
+  summary.wall_time_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  summary.message = "LCP-HBM stepping: " + std::to_string(summary.num_points) + " of " +
+                    std::to_string(grid.size()) + " frequencies solved, " +
+                    std::to_string(failures) + " without a Lemke solution, " +
+                    std::to_string(coexisting) + " trivial with a coexisting contact solution";
+  if (summary.reason == TerminationReason::kStoppedByObserver) {
+    summary.message += " (interrupted by a signal)";
+  }
+  writer.Finish(summary);
+  return branch;
+}
+
+}  // namespace nfrc
