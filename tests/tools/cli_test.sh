@@ -50,11 +50,25 @@ expect "refine without dlft" 1 "refinement needs a dlft_contact law" -- \
   "$nfrc" refine "$src/cases/duffing.json" --omega 1.2 --epsilons 1 --out "$work/r"
 expect "refine" 0 "3 of 3 refinement steps" -- \
   "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 63953 --epsilons 1e9,2e9,4e9 --out "$work/r"
-for f in refinement.json samples_0.csv signals_2.csv; do
+for f in refinement.json samples_0.csv signals_2.csv lcp/samples_0.csv; do
   [ -s "$work/r/$f" ] || { echo "FAIL refine: $f missing"; failures=$((failures + 1)); }
 done
 expect "contact bad field" 1 "nonlinearities[0].obstacle_stiffness: must be finite and > 0" -- \
   "$nfrc" run "$src/tests/tools/data/bad_obstacle.json" --out "$work/o"
+
+grep -q '"distance_to_lcp"' "$work/r/refinement.json" ||
+  { echo "FAIL refine: steps lack distance_to_lcp"; failures=$((failures + 1)); }
+
+# LCP-HBM: Lemke stepping runs and records its solver data; bad set-ups name the field.
+expect "lemke stepping" 0 "152 of 152 frequencies solved" -- \
+  "$nfrc" run "$src/cases/lcp/rigid_stepping_nt400.json" --out "$work/lcp"
+grep -q '"coexisting_contact"' "$work/lcp/branch.json" ||
+  { echo "FAIL lemke stepping: points lack lcp data"; failures=$((failures + 1)); }
+[ -s "$work/lcp/samples_0.csv" ] || { echo "FAIL lemke stepping: samples_0.csv missing"; failures=$((failures + 1)); }
+expect "lcp oversampled arclength" 1 "harmonics.samples: lcp_contact on an arclength branch needs square" -- \
+  "$nfrc" run "$src/tests/tools/data/lcp_oversampled.json" --out "$work/o"
+expect "lemke stepping with dlft" 1 "nonlinearities[0]: LCP-HBM needs every law to be lcp_contact" -- \
+  "$nfrc" run "$src/tests/tools/data/stepping_dlft.json" --out "$work/o"
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures CLI check(s) failed"
