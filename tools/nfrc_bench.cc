@@ -8,7 +8,10 @@
 //      damping 0.75 % at ω0): a short stretch in contact, time per continuation step, per
 //      evaluation, and of the condensation update per frequency alone, and the rounding
 //      noise of the condensed operator, which grows with the mesh and decides whether the
-//      arclength corrector (ω moves every iteration) can meet the residual tolerance.
+//      arclength corrector (ω moves every iteration) can meet the residual tolerance;
+//   6. LCP-HBM per point on the rigid-obstacle rod, N_h = 20, N_t = 41, 400, 600
+//      (cases/lcp/rigid_stepping_nt400.json): assembly of W, p, the Lemke solve and the
+//      whole point at two frequencies in contact, and the mean over a cold-start sweep.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "core/condensation.h"
+#include "tools/lcp_hbm.h"
 #include "tools/run_case.h"
 
 namespace {
@@ -220,6 +224,88 @@ void BenchRefinedRod(int elements, int max_points) {
       noise, std::abs(z[1]), noise * x_norm, tolerance);
 }
 
+// Times of one LCP-HBM point at ω for `lcp` (medians of `repeats`). Assemble caches W, p per
+// ω, so every timed call that must assemble gets its own ω, perturbed by a relative 1e-9
+// (far below any change of the contact state); `perturbation` counts the offsets used.
+struct LcpPointTimes {
+  double assembly = 0.0;  // s, Assemble at a fresh ω (condensed operator, W, p)
+  double lemke = 0.0;     // s, Solve at an already assembled ω (scaling, Lemke, unknowns)
+  double total = 0.0;     // s, Solve at a fresh ω: the whole point
+  nfrc::LcpHbm::Solution solution;  // of the last total
+};
+
+LcpPointTimes TimeLcpPoint(nfrc::LcpHbm& lcp, double omega, int repeats, int* perturbation) {
+  std::vector<double> assembly, lemke, total;
+  LcpPointTimes times;
+  for (int r = 0; r < repeats; ++r) {
+    double fresh = omega * (1.0 + 1e-9 * ++*perturbation);
+    auto start = Clock::now();
+    lcp.Assemble(fresh);
+    assembly.push_back(Seconds(start));
+    start = Clock::now();
+    lcp.Solve(fresh);
+    lemke.push_back(Seconds(start));
+    fresh = omega * (1.0 + 1e-9 * ++*perturbation);
+    start = Clock::now();
+    times.solution = lcp.Solve(fresh);
+    total.push_back(Seconds(start));
+  }
+  times.assembly = Median(assembly);
+  times.lemke = Median(lemke);
+  times.total = Median(total);
+  return times;
+}
+
+// LCP-HBM per point for the rigid-obstacle rod with N_h = 20 at each N_t in `samples`: the
+// two contact frequencies, then the mean over a sweep of cold starts, each a Solve at a new
+// ω as `nfrc run` does with lemke_stepping (its warm re-solves for coexisting contact
+// states are not included).
+void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_points) {
+  const auto section_start = Clock::now();
+  const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/lcp";
+  const nlohmann::json base = nfrc::LoadCase(dir + "/rigid_stepping_nt400.json").source;
+  constexpr double kOmegas[] = {63953.9, 6.45e4};  // rad/s, both in contact
+  constexpr double kSweepStart = 6.2e4;            // rad/s
+  constexpr double kSweepEnd = 6.6e4;              // rad/s
+  std::printf(
+      "LCP-HBM per point: rigid-obstacle rod (cases/lcp/rigid_stepping_nt400.json), N_h=20, "
+      "median of %d\n",
+      repeats);
+  std::printf("  %4s %5s %12s %12s %9s %7s %15s\n", "N_t", "n", "omega rad/s", "assembly ms",
+              "Lemke ms", "pivots", "total ms/point");
+  for (int nt : samples) {
+    nlohmann::json source = base;
+    source["harmonics"]["samples"] = nt;
+    nfrc::Case the_case = nfrc::ParseCase(source, dir);
+    auto system = nfrc::MakeSystem(the_case);
+    nfrc::LcpHbm lcp(*system);
+    int perturbation = 0;
+    lcp.Solve(kSweepStart);  // first point: allocations, not timed
+    for (double omega : kOmegas) {
+      const LcpPointTimes t = TimeLcpPoint(lcp, omega, repeats, &perturbation);
+      std::printf("  %4d %5d %12.1f %12.3f %9.3f %7d %15.3f%s\n", nt, lcp.num_samples(), omega,
+                  1e3 * t.assembly, 1e3 * t.lemke, t.solution.lemke.pivots, 1e3 * t.total,
+                  t.solution.lemke.ok() ? "" : "  (Lemke failed)");
+    }
+    int pivots = 0;
+    int failures = 0;
+    const auto start = Clock::now();
+    for (int i = 0; i < sweep_points; ++i) {
+      const double omega = kSweepStart + (kSweepEnd - kSweepStart) * i / (sweep_points - 1);
+      const nfrc::LcpHbm::Solution solution = lcp.Solve(omega);
+      pivots += solution.lemke.pivots;
+      if (!solution.lemke.ok()) ++failures;
+    }
+    const double sweep = Seconds(start);
+    std::printf(
+        "  %4d %5d  sweep %d cold starts %.0f..%.0f: %.3f ms/point mean, %.1f pivots mean, "
+        "%d failed\n",
+        nt, lcp.num_samples(), sweep_points, kSweepStart, kSweepEnd, 1e3 * sweep / sweep_points,
+        static_cast<double>(pivots) / sweep_points, failures);
+  }
+  std::printf("  section time   %.2f s\n", Seconds(section_start));
+}
+
 }  // namespace
 
 int main() {
@@ -231,5 +317,6 @@ int main() {
   BenchRefinedRod(20, 20);
   BenchRefinedRod(10000, 20);
   BenchRefinedRod(100000, 8);
+  BenchLcpPerPoint({41, 400, 600}, 5, 31);
   return 0;
 }
