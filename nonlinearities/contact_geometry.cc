@@ -151,6 +151,12 @@ double LagrangianContactSpec::DefaultEpsilon(const NonlinearityContext& ctx) con
   return epsilon;
 }
 
+double LagrangianContactSpec::EpsilonFor(const NonlinearityContext& ctx) const {
+  if (epsilon > 0.0) return epsilon;
+  if (!resolved_epsilon) resolved_epsilon = DefaultEpsilon(ctx);
+  return *resolved_epsilon;
+}
+
 std::map<std::string, double> ContactDiagnostics(const ContactState& state,
                                                  const FourierTransform& fine) {
   const Eigen::VectorXd truncated = fine.ToTime(state.force_coefficients).col(0);

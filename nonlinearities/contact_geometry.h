@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,13 @@ struct LagrangianContactSpec {
   // context's DOFs. Throws std::invalid_argument naming "epsilon" if a rigid contact's set
   // has no harmonic 0 or the static stiffness vanishes.
   double DefaultEpsilon(const NonlinearityContext& ctx) const;
+  // ε in use (N/m): `epsilon`, or the default resolved once at the first call (it depends
+  // only on K and the obstacle).
+  double EpsilonFor(const NonlinearityContext& ctx) const;
+  // The same without a context: 0 while the default is unresolved.
+  double EpsilonInUse() const { return epsilon > 0.0 ? epsilon : resolved_epsilon.value_or(0.0); }
+
+  mutable std::optional<double> resolved_epsilon;
 };
 
 // Outputs shared by contact laws at a solution. `gap` and `force` are the gap and contact

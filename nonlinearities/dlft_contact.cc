@@ -19,7 +19,7 @@ const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega)
 }  // namespace
 
 DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon)
-    : spec_{std::move(geometry), obstacle_stiffness, epsilon} {
+    : spec_{std::move(geometry), obstacle_stiffness, epsilon, std::nullopt} {
   spec_.Validate();
 }
 
@@ -39,12 +39,6 @@ void DlftContact::set_epsilon(double epsilon) {
     throw std::invalid_argument("epsilon: must be finite and > 0");
   }
   spec_.epsilon = epsilon;
-}
-
-double DlftContact::EpsilonFor(const NonlinearityContext& ctx) const {
-  if (spec_.epsilon > 0.0) return spec_.epsilon;
-  if (!resolved_epsilon_) resolved_epsilon_ = spec_.DefaultEpsilon(ctx);
-  return *resolved_epsilon_;
 }
 
 DlftContact::LinearRows DlftContact::Rows(const NonlinearityContext& ctx, double omega,
@@ -79,13 +73,13 @@ DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
 
 DlftContact::Prediction DlftContact::PredictAt(const NonlinearityContext& ctx,
                                                const Eigen::VectorXd& y, double omega) const {
-  return Predict(ctx, y, Rows(ctx, omega, false), EpsilonFor(ctx));
+  return Predict(ctx, y, Rows(ctx, omega, false), spec_.EpsilonFor(ctx));
 }
 
 void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                            Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                            Eigen::VectorXd* d_omega) const {
-  const double epsilon = EpsilonFor(ctx);
+  const double epsilon = spec_.EpsilonFor(ctx);
   const LinearRows rows = Rows(ctx, omega, false);
   const Prediction p = Predict(ctx, y, rows, epsilon);
   spec_.geometry.AddForce(ctx, p.state.force_coefficients, residual);
@@ -137,7 +131,7 @@ std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext
                                                        const FourierTransform& fine) const {
   std::map<std::string, double> diagnostics =
       ContactDiagnostics(PredictAt(ctx, y, omega).state, fine);
-  diagnostics["epsilon"] = EpsilonFor(ctx);
+  diagnostics["epsilon"] = spec_.EpsilonFor(ctx);
   return diagnostics;
 }
 

@@ -2,7 +2,6 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 #include "core/linear_model.h"
@@ -50,9 +49,7 @@ class DlftContact : public Nonlinearity {
   double DefaultEpsilon(const NonlinearityContext& ctx) const { return spec_.DefaultEpsilon(ctx); }
 
   // ε in use (the configured one, or the default once resolved by an evaluation; 0 before).
-  double epsilon() const {
-    return spec_.epsilon > 0.0 ? spec_.epsilon : resolved_epsilon_.value_or(0.0);
-  }
+  double epsilon() const { return spec_.EpsilonInUse(); }
   // For ε-refinement: sets ε (N/m, > 0) for later evaluations.
   void set_epsilon(double epsilon);
   const ContactGeometry& geometry() const { return spec_.geometry; }
@@ -76,11 +73,8 @@ class DlftContact : public Nonlinearity {
   // Predict with the rows at ω (for outputs).
   Prediction PredictAt(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                        double omega) const;
-  double EpsilonFor(const NonlinearityContext& ctx) const;
 
   LagrangianContactSpec spec_;
-  // Default ε, resolved at the first evaluation (it depends only on K and the obstacle).
-  mutable std::optional<double> resolved_epsilon_;
 };
 
 }  // namespace nfrc

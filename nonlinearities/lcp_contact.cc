@@ -8,7 +8,7 @@ namespace nfrc {
 
 LcpContact::LcpContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon,
                        double smoothing)
-    : spec_{std::move(geometry), obstacle_stiffness, epsilon}, smoothing_(smoothing) {
+    : spec_{std::move(geometry), obstacle_stiffness, epsilon, std::nullopt}, smoothing_(smoothing) {
   spec_.Validate();
   if (!(smoothing_ >= 0.0) || !std::isfinite(smoothing_)) {
     throw std::invalid_argument("smoothing: must be finite and >= 0 (m)");
@@ -43,12 +43,6 @@ void LcpContact::CheckForContinuation(const HarmonicSet& set) const {
     throw std::invalid_argument(
         "harmonics.odd_only: lcp_contact needs the full harmonic set (a gap has a mean)");
   }
-}
-
-double LcpContact::EpsilonFor(const NonlinearityContext& ctx) const {
-  if (spec_.epsilon > 0.0) return spec_.epsilon;
-  if (!resolved_epsilon_) resolved_epsilon_ = spec_.DefaultEpsilon(ctx);
-  return *resolved_epsilon_;
 }
 
 void LcpContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,

@@ -2,7 +2,6 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 #include "core/linear_model.h"
@@ -61,14 +60,13 @@ class LcpContact : public Nonlinearity {
   const ContactGeometry& geometry() const { return spec_.geometry; }
   double obstacle_stiffness() const { return spec_.obstacle_stiffness; }
   // ε in use (N/m): the configured one or the default; own unknown j is λ_j/ε.
-  double EpsilonFor(const NonlinearityContext& ctx) const;
+  double EpsilonFor(const NonlinearityContext& ctx) const { return spec_.EpsilonFor(ctx); }
 
  private:
   ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y) const;
 
   LagrangianContactSpec spec_;
-  double smoothing_;                                // m
-  mutable std::optional<double> resolved_epsilon_;  // default ε, resolved at first use
+  double smoothing_;  // m
 };
 
 }  // namespace nfrc

@@ -71,9 +71,9 @@ Eigen::VectorXd StateAwayFromSwitches(const CoulombFriction& law, const Setup& s
 
 TEST_CASE("every friction law: Jacobian and ω-derivative match finite differences") {
   std::mt19937 rng(20261122);
-  const FrictionEquality laws[] = {FrictionEquality::kMinMax, FrictionEquality::kHueber,
-                                   FrictionEquality::kTanh, FrictionEquality::kArctan,
-                                   FrictionEquality::kPiecewiseLinear, FrictionEquality::kSign};
+  const FrictionEquality laws[] = {
+      FrictionEquality::kMinMax, FrictionEquality::kHueber,          FrictionEquality::kTanh,
+      FrictionEquality::kArctan, FrictionEquality::kPiecewiseLinear, FrictionEquality::kSign};
   for (FrictionEquality equality : laws) {
     for (bool relative : {false, true}) {
       CAPTURE(ToString(equality));
@@ -104,12 +104,12 @@ TEST_CASE("the exact laws' zero set is Coulomb's law; sliding force r = -muN sig
   for (FrictionEquality equality : {FrictionEquality::kMinMax, FrictionEquality::kHueber}) {
     p.equality = equality;
     CAPTURE(ToString(equality));
-    CHECK(EvaluateFrictionEquality(p, 1.5, -2.0).value == doctest::Approx(0.0));   // slip +
-    CHECK(EvaluateFrictionEquality(p, -1.5, 2.0).value == doctest::Approx(0.0));   // slip −
-    CHECK(EvaluateFrictionEquality(p, 0.0, 0.7).value == doctest::Approx(0.0));    // stick
-    CHECK(EvaluateFrictionEquality(p, 1.5, 2.0).value != doctest::Approx(0.0));    // wrong sign
-    CHECK(EvaluateFrictionEquality(p, 0.1, 0.7).value != doctest::Approx(0.0));    // not stuck
-    CHECK(EvaluateFrictionEquality(p, 0.0, 2.5).value != doctest::Approx(0.0));    // |r| > μN
+    CHECK(EvaluateFrictionEquality(p, 1.5, -2.0).value == doctest::Approx(0.0));  // slip +
+    CHECK(EvaluateFrictionEquality(p, -1.5, 2.0).value == doctest::Approx(0.0));  // slip −
+    CHECK(EvaluateFrictionEquality(p, 0.0, 0.7).value == doctest::Approx(0.0));   // stick
+    CHECK(EvaluateFrictionEquality(p, 1.5, 2.0).value != doctest::Approx(0.0));   // wrong sign
+    CHECK(EvaluateFrictionEquality(p, 0.1, 0.7).value != doctest::Approx(0.0));   // not stuck
+    CHECK(EvaluateFrictionEquality(p, 0.0, 2.5).value != doctest::Approx(0.0));   // |r| > μN
   }
 }
 
@@ -133,7 +133,8 @@ TEST_CASE("case-file errors name the field") {
   CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
                   "law": "tanh"})") == "nonlinearities[0].alpha: required by law \"tanh\"");
   CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
-                  "law": "stribeck"})").find("nonlinearities[0].law: unknown friction law") == 0);
+                  "law": "stribeck"})")
+            .find("nonlinearities[0].law: unknown friction law") == 0);
   CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
                   "delta": 1})") == "nonlinearities[0].delta: does not apply to law \"min_max\"");
 }

@@ -28,32 +28,14 @@ constexpr double kFdTolerance = 1e-6;
 // share of its largest sample, so no sample switches between contact and separation.
 constexpr double kSwitchMargin = 1e-4;
 
-// A damped four-DOF chain, clamped at DOF 0's left, forced at DOF 3; contact at DOF 3.
-LinearModel Chain() {
-  const int n = 4;
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n, n);
-  for (int i = 0; i < n; ++i) {
-    k(i, i) += 2.0e9;
-    if (i + 1 < n) {
-      k(i, i + 1) = k(i + 1, i) = -1.0e9;
-    }
-  }
-  k(n - 1, n - 1) = 1.0e9;
-  LinearModel model;
-  model.stiffness = k.sparseView();
-  model.mass = (0.5 * m).sparseView();
-  model.damping = (2e-6 * k).sparseView();
-  return model;
-}
-
 struct Setup {
   HarmonicSet set{5, false, 64};
   FourierTransform fourier{set};
   Condensation condensation;
   NonlinearityContext ctx;
   Setup(std::vector<int> retained, std::vector<int> local)
-      : condensation(Chain(), std::move(retained), set, {ForcingTerm{3, 1, 1e5, 0.0}}) {
+      : condensation(testing::ChainModel(), std::move(retained), set,
+                     {ForcingTerm{3, 1, 1e5, 0.0}}) {
     ctx.fourier = &fourier;
     ctx.condensation = &condensation;
     ctx.local_dofs = std::move(local);

@@ -26,22 +26,6 @@ constexpr double kFdTolerance = 1e-6;
 // size kFdStep switches no branch of the min.
 constexpr double kTieMargin = 1e-3;
 
-// A damped four-DOF chain (N/m, kg), forced at DOF 3.
-LinearModel Chain() {
-  const int n = 4;
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) {
-    k(i, i) += 2.0e9;
-    if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0e9;
-  }
-  k(n - 1, n - 1) = 1.0e9;
-  LinearModel model;
-  model.stiffness = k.sparseView();
-  model.mass = (0.5 * Eigen::MatrixXd::Identity(n, n)).sparseView();
-  model.damping = (2e-6 * k).sparseView();
-  return model;
-}
-
 // H = 5 on the square grid N_t = 11 (the law's continuation form).
 struct Setup {
   HarmonicSet set{5, false, 11};
@@ -49,7 +33,8 @@ struct Setup {
   Condensation condensation;
   NonlinearityContext ctx;
   Setup(std::vector<int> retained, std::vector<int> local)
-      : condensation(Chain(), std::move(retained), set, {ForcingTerm{3, 1, 1e5, 0.0}}) {
+      : condensation(testing::ChainModel(), std::move(retained), set,
+                     {ForcingTerm{3, 1, 1e5, 0.0}}) {
     ctx.fourier = &fourier;
     ctx.condensation = &condensation;
     ctx.local_dofs = std::move(local);
