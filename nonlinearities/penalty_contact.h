@@ -34,6 +34,9 @@ class PenaltyContact : public Nonlinearity {
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const override;
 
+  const ContactGeometry& geometry() const { return geometry_; }
+  double stiffness() const { return stiffness_; }
+
  private:
   ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y) const;
 

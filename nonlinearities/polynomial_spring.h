@@ -1,7 +1,7 @@
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "core/linear_model.h"
@@ -15,7 +15,7 @@ namespace nfrc {
 class PolynomialSpring : public Nonlinearity {
  public:
   struct Term {
-    int power = 3;  // p ≥ 2 (linear terms belong in K)
+    int power = 3;             // p ≥ 2 (linear terms belong in K)
     double coefficient = 0.0;  // force / length^p
   };
 
@@ -26,17 +26,21 @@ class PolynomialSpring : public Nonlinearity {
   // Case-file factories: "cubic_spring" {dof, [other], coefficient} and
   // "polynomial_spring" {dof, [other], terms: [{power, coefficient}, ...]}.
   static std::unique_ptr<Nonlinearity> CubicFromJson(const nlohmann::json& spec,
-                                                      const std::string& path,
-                                                      const LinearModel& model);
+                                                     const std::string& path,
+                                                     const LinearModel& model);
   static std::unique_ptr<Nonlinearity> PolynomialFromJson(const nlohmann::json& spec,
-                                                           const std::string& path,
-                                                           const LinearModel& model);
+                                                          const std::string& path,
+                                                          const LinearModel& model);
 
   std::string type() const override { return type_; }
   std::vector<int> Dofs() const override;
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
+
+  int dof() const { return dof_; }
+  int other() const { return other_; }
+  const std::vector<Term>& terms() const { return terms_; }
 
  private:
   std::string type_;

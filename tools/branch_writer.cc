@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "continuation/fixed_lambda.h"
+#include "tools/output_files.h"
 #include "tools/version.h"
 
 namespace nfrc {
@@ -161,30 +162,6 @@ nlohmann::json BranchWriter::LawDiagnostics(const Eigen::VectorXd& y, double ome
   return laws;
 }
 
-namespace {
-
-void WriteCsv(const std::string& path, const std::vector<std::string>& columns,
-              const std::vector<Eigen::VectorXd>& data) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot open for writing");
-  out << std::setprecision(12);
-  for (size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << columns[c];
-  out << "\n";
-  for (Eigen::Index j = 0; j < data.front().size(); ++j) {
-    for (size_t c = 0; c < data.size(); ++c) out << (c ? "," : "") << data[c](j);
-    out << "\n";
-  }
-  if (!out) throw std::runtime_error(path + ": write failed");
-}
-
-Eigen::VectorXd Angles(int num_samples) {
-  Eigen::VectorXd theta(num_samples);
-  for (int j = 0; j < num_samples; ++j) theta(j) = 2.0 * std::numbers::pi * j / num_samples;
-  return theta;
-}
-
-}  // namespace
-
 const nlohmann::json& BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y,
                                                  int after_point, bool converged,
                                                  const std::string& note) {
@@ -282,15 +259,7 @@ void BranchWriter::Finish(const ContinuationSummary& summary) {
 
 void BranchWriter::WriteJson() {
   const auto start = std::chrono::steady_clock::now();
-  const std::string path = dir_ + "/branch.json";
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw std::runtime_error(temporary + ": cannot open for writing");
-    out << document_.dump(1) << "\n";
-    if (!out) throw std::runtime_error(temporary + ": write failed");
-  }
-  std::filesystem::rename(temporary, path);
+  WriteJsonAtomically(dir_ + "/branch.json", document_);
   last_json_write_ = std::chrono::steady_clock::now();
   last_json_duration_ = last_json_write_ - start;
 }

@@ -118,6 +118,7 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
     if (!(omega > 0.0)) output.Fail("signals_at", "frequencies must be positive");
   }
   output.Finish();
+  if (fields.Has("validation")) result.validation = fields.RequiredObject("validation");
   fields.Finish();
   return result;
 }

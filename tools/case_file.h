@@ -35,6 +35,9 @@ struct Case {
   std::vector<int> output_dofs;           // model DOF indices
   std::vector<std::string> output_names;  // as the case names them (index or name)
   std::vector<double> signals_at;         // ω at which time signals are written
+  // The optional "validation" object for `nfrc validate` (tools/validation_settings.h), as
+  // written; null when absent. `nfrc run` does not read it.
+  nlohmann::json validation;
 };
 
 // Reads and validates a case file. Throws InputError naming the file or field.

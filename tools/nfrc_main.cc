@@ -1,5 +1,5 @@
-// The nfrc command line program: `nfrc run CASE.json --out DIR`, `nfrc refine ...` and
-// `nfrc plot DIR`.
+// The nfrc command line program: `nfrc run CASE.json --out DIR`, `nfrc refine ...`,
+// `nfrc validate ...` and `nfrc plot DIR`.
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
@@ -13,6 +13,7 @@
 #include "core/input_fields.h"
 #include "tools/epsilon_refinement.h"
 #include "tools/run_case.h"
+#include "tools/validate.h"
 #include "tools/version.h"
 
 namespace {
@@ -35,6 +36,10 @@ constexpr const char* kUsage =
     "              [--epsilons E1,E2,...]\n"
     "                                 DLFT epsilon refinement at W (default: from the\n"
     "                                 case's epsilon, factor 2, 15 steps), warm-started\n"
+    "  nfrc validate CASE.json --out DIR [--omega W1,W2,...] [--start hbm|rest] [--no-chirp]\n"
+    "              [--no-plot]\n"
+    "                                 integrate the model in time to steady state at each W\n"
+    "                                 and compare with the HBM branch (DIR/validation.json)\n"
     "  nfrc plot DIR                  draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
     "  nfrc --version\n";
 
@@ -149,19 +154,90 @@ int Refine(const std::vector<std::string>& args) {
   return complete ? kExitOk : kExitRunIncomplete;
 }
 
+// Runs tools/<script> with the arguments under the system Python; its exit status.
+int RunPythonScript(const std::string& script, const std::vector<std::string>& args) {
+  const std::string path = std::string(NFRC_TOOLS_DIR) + "/" + script;
+  // Debian's python3-matplotlib lives with the system interpreter.
+  const std::string python =
+      std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  std::string command = python + " '" + path + "'";
+  for (const std::string& arg : args) command += " '" + arg + "'";
+  return std::system(command.c_str());
+}
+
 int Plot(const std::vector<std::string>& args) {
   if (args.empty()) {
     std::cerr << "nfrc plot: needs an output directory\n" << kUsage;
     return kExitUsage;
   }
-  const std::string script = std::string(NFRC_TOOLS_DIR) + "/plot_frc.py";
-  // Debian's python3-matplotlib lives with the system interpreter.
-  const std::string python =
-      std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  std::string command = python + " '" + script + "'";
-  for (const std::string& arg : args) command += " '" + arg + "'";
-  const int status = std::system(command.c_str());
-  return status == 0 ? kExitOk : kExitIoError;
+  return RunPythonScript("plot_frc.py", args) == 0 ? kExitOk : kExitIoError;
+}
+
+int Validate(const std::vector<std::string>& args) {
+  std::string case_path;
+  std::string out_dir;
+  std::vector<double> omegas;
+  std::string start;
+  bool chirp = true;
+  bool plot = true;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    const bool has_value = i + 1 < args.size();
+    if (arg == "--out" && has_value) {
+      out_dir = args[++i];
+    } else if (arg == "--omega" && has_value) {
+      std::stringstream items(args[++i]);
+      for (std::string item; std::getline(items, item, ',');) {
+        omegas.push_back(NumberOption("--omega", item));
+        if (!(omegas.back() > 0.0)) throw nfrc::InputError("--omega: frequencies must be positive");
+      }
+    } else if (arg == "--start" && has_value) {
+      start = args[++i];
+    } else if (arg == "--no-chirp") {
+      chirp = false;
+    } else if (arg == "--no-plot") {
+      plot = false;
+    } else if (!arg.empty() && arg[0] == '-') {
+      std::cerr << "nfrc validate: unknown option or missing value: " << arg << "\n" << kUsage;
+      return kExitUsage;
+    } else if (case_path.empty()) {
+      case_path = arg;
+    } else {
+      std::cerr << "nfrc validate: more than one case file given\n" << kUsage;
+      return kExitUsage;
+    }
+  }
+  if (case_path.empty() || out_dir.empty()) {
+    std::cerr << "nfrc validate: needs a case file and --out DIR\n" << kUsage;
+    return kExitUsage;
+  }
+  nfrc::Case the_case = nfrc::LoadCase(case_path);
+  nfrc::ValidationSettings settings = nfrc::ValidationSettings::Read(the_case.validation);
+  if (!omegas.empty()) settings.omegas = omegas;
+  if (start == "rest") {
+    settings.start = nfrc::ValidationSettings::Start::kRest;
+  } else if (start == "hbm") {
+    settings.start = nfrc::ValidationSettings::Start::kHbm;
+  } else if (!start.empty()) {
+    throw nfrc::InputError("--start: expected hbm or rest, got \"" + start + "\"");
+  }
+  if (!chirp) settings.chirp.enabled = false;
+  if (settings.omegas.empty() && !settings.chirp.enabled) {
+    throw nfrc::InputError(
+        "--omega: no frequencies to validate (give --omega or the case's "
+        "validation.omega)");
+  }
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const nlohmann::json document =
+      nfrc::RunValidation(the_case, settings, out_dir, &std::cerr, &std::cout, &g_stop);
+  std::cerr << "nfrc: wrote " << out_dir << "/validation.json\n";
+  int status = nfrc::ValidationComplete(document) && !g_stop.load() ? kExitOk : kExitRunIncomplete;
+  if (plot && RunPythonScript("plot_validation.py", {out_dir}) != 0) {
+    std::cerr << "nfrc validate: plotting failed\n";
+    if (status == kExitOk) status = kExitIoError;
+  }
+  return status;
 }
 
 }  // namespace
@@ -182,6 +258,7 @@ int main(int argc, char** argv) {
     if (command == "run") return Run(args);
     if (command == "refine") return Refine(args);
     if (command == "plot") return Plot(args);
+    if (command == "validate") return Validate(args);
     std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
     return kExitUsage;
   } catch (const nfrc::InputError& error) {

@@ -98,7 +98,7 @@ TEST_CASE("every friction law: Jacobian and ω-derivative match finite differenc
   }
 }
 
-TEST_CASE("the exact laws' zero set is Coulomb's law; sliding force r = -muN sign(v)") {
+TEST_CASE("the exact laws' zero set is Coulomb's law, sliding force r = -muN sign(v)") {
   FrictionParameters p;
   p.limit = 2.0;
   for (FrictionEquality equality : {FrictionEquality::kMinMax, FrictionEquality::kHueber}) {

@@ -70,6 +70,26 @@ expect "lcp oversampled arclength" 1 "harmonics.samples: lcp_contact on an arcle
 expect "lemke stepping with dlft" 1 "nonlinearities[0]: LCP-HBM needs every law to be lcp_contact" -- \
   "$nfrc" run "$src/tests/tools/data/stepping_dlft.json" --out "$work/o"
 
+# Transient validation: input errors name the option or field; a Duffing run writes its files.
+expect "validate without out" 2 "needs a case file and --out DIR" -- \
+  "$nfrc" validate "$src/cases/duffing.json" --omega 1
+expect "validate bad omega" 1 "--omega: not a number" -- \
+  "$nfrc" validate "$src/cases/duffing.json" --omega 1,x --out "$work/v"
+expect "validate bad start" 1 "--start: expected hbm or rest" -- \
+  "$nfrc" validate "$src/cases/duffing.json" --omega 1 --start cold --out "$work/v"
+expect "validate no omega" 1 "no frequencies to validate" -- \
+  "$nfrc" validate "$src/cases/duffing.json" --out "$work/v"
+sed 's/"output"/"validation": {"transient": {"steady_tolerance": -1}}, "output"/' \
+  "$src/cases/duffing.json" > "$work/bad_validation.json"
+expect "validate bad field" 1 "validation.transient.steady_tolerance" -- \
+  "$nfrc" validate "$work/bad_validation.json" --omega 1 --out "$work/v"
+expect "validate duffing" 0 "wrote $work/v/validation.json" -- \
+  "$nfrc" validate "$src/cases/duffing.json" --omega 0.8,1.2 --start rest --out "$work/v"
+grep -q "periodic" "$work/out" || { echo "FAIL validate table missing"; failures=$((failures + 1)); }
+for f in validation.json signals_0.csv signals_0.png validation.png hbm/branch.json; do
+  [ -s "$work/v/$f" ] || { echo "FAIL validate: $f missing"; failures=$((failures + 1)); }
+done
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures CLI check(s) failed"
   exit 1

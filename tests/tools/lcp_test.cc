@@ -117,7 +117,7 @@ nlohmann::json ReadJson(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 
-TEST_CASE("LCP-HBM: the arclength branch passes the folds; stepping marks the coexistence") {
+TEST_CASE("LCP-HBM: the arclength branch passes the folds and stepping marks the coexistence") {
   // Square grid H = 8: the smoothed complementarity branch from 5e4 to 8e4 through the
   // turning points (δ = 1e-9 m: g·λ = ε δ² ≈ 2.5e-9 N·m on every sample).
   nlohmann::json arc_source = RodSource(8, 17, "lcp_contact");

@@ -20,7 +20,7 @@ nlohmann::json ReadJson(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 
-TEST_CASE("nfrc run writes branch.json with points, folds and summary; measures are right") {
+TEST_CASE("nfrc run writes branch.json with points, folds and summary, and measures are right") {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
   const std::string dir = OutDir("h1");
   const Branch branch = RunCase(the_case, dir, nullptr);
