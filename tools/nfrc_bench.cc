@@ -11,13 +11,19 @@
 //      arclength corrector (ω moves every iteration) can meet the residual tolerance;
 //   6. LCP-HBM per point on the rigid-obstacle rod, N_h = 20, N_t = 41, 400, 600
 //      (cases/lcp/rigid_stepping_nt400.json): assembly of W, p, the Lemke solve and the
-//      whole point at two frequencies in contact, and the mean over a cold-start sweep.
+//      whole point at two frequencies in contact, and the mean over a cold-start sweep;
+//   7. transients to periodic steady state from rest (validation/): IDA on the friction
+//      oscillator at point E and on the rod against a flexible obstacle at ω0, the explicit
+//      Lagrange-multiplier scheme on the rod against a rigid one: integration time, periods,
+//      steps and events.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -25,6 +31,9 @@
 #include "core/condensation.h"
 #include "tools/lcp_hbm.h"
 #include "tools/run_case.h"
+#include "tools/validation_settings.h"
+#include "validation/central_difference.h"
+#include "validation/ida_integrator.h"
 
 namespace {
 
@@ -306,17 +315,61 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
   std::printf("  section time   %.2f s\n", Seconds(section_start));
 }
 
+void BenchTransient(const std::string& name, double omega, int repeats) {
+  nfrc::Case the_case = nfrc::LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
+  const nfrc::ValidationSettings settings = nfrc::ValidationSettings::Read(the_case.validation);
+  nfrc::TransientModel model =
+      nfrc::MakeTransientModel(the_case.model.model, the_case.model.forcing, the_case.laws);
+  std::unique_ptr<nfrc::TransientIntegrator> integrator;
+  if (model.rigid_contacts.empty()) {
+    integrator = std::make_unique<nfrc::IdaIntegrator>(model, settings.transient);
+  } else {
+    integrator = std::make_unique<nfrc::CentralDifferenceIntegrator>(model, settings.transient);
+  }
+  nfrc::InitialState rest;
+  rest.x = Eigen::VectorXd::Zero(model.num_dofs());
+  rest.v = rest.x;
+  std::vector<double> times;
+  nfrc::TransientResult result;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = Clock::now();
+    result = integrator->RunToSteadyState(omega, rest);
+    times.push_back(Seconds(start));
+  }
+  std::printf("transient %s at omega=%g from rest (%s): %s\n", name.c_str(), omega,
+              result.method.c_str(), nfrc::ToString(result.status));
+  std::printf("  wall time      %.3f s (median of %d runs)\n", Median(times), repeats);
+  std::printf("  periods        %d (%.3f ms/period), %ld steps, %ld events\n", result.periods,
+              1e3 * Median(times) / std::max(1, result.periods), result.steps, result.events);
+}
+
 }  // namespace
 
-int main() {
-  BenchCase("duffing.json", 5);
-  BenchCase("friction/frc_n10.json", 3);
-  BenchChain(10000, 5);
-  BenchChain(100000, 5);
-  BenchCase("rod/rigid_nh20.json", 3);
-  BenchRefinedRod(20, 20);
-  BenchRefinedRod(10000, 20);
-  BenchRefinedRod(100000, 8);
-  BenchLcpPerPoint({41, 400, 600}, 5, 31);
+// usage: nfrc_bench [SECTION ...] runs the numbered sections above (default: all).
+int main(int argc, char** argv) {
+  std::vector<int> sections;
+  for (int i = 1; i < argc; ++i) sections.push_back(std::atoi(argv[i]));
+  auto run = [&](int section) {
+    return sections.empty() ||
+           std::find(sections.begin(), sections.end(), section) != sections.end();
+  };
+  if (run(1)) BenchCase("duffing.json", 5);
+  if (run(2)) BenchCase("friction/frc_n10.json", 3);
+  if (run(3)) {
+    BenchChain(10000, 5);
+    BenchChain(100000, 5);
+  }
+  if (run(4)) BenchCase("rod/rigid_nh20.json", 3);
+  if (run(5)) {
+    BenchRefinedRod(20, 20);
+    BenchRefinedRod(10000, 20);
+    BenchRefinedRod(100000, 8);
+  }
+  if (run(6)) BenchLcpPerPoint({41, 400, 600}, 5, 31);
+  if (run(7)) {
+    BenchTransient("validation/friction_point_e.json", 0.308, 3);
+    BenchTransient("validation/rod_flexible_4krod.json", 63954.0, 3);
+    BenchTransient("validation/rod_rigid.json", 63954.0, 3);
+  }
   return 0;
 }

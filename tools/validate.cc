@@ -261,8 +261,11 @@ nlohmann::json RunChirps(const Case& the_case, const ChirpSettings& chirp,
       }
     }
     const std::string file = "chirp_" + name + ".csv";
+    // A chirp has no steady state: kPeriodic only says that it ran to its end.
+    const std::string status =
+        r.status == TransientStatus::kPeriodic ? "completed" : ToString(r.status);
     if (!r.cycles.empty()) WriteCsv(out_dir + "/" + file, columns, data);
-    result[name] = {{"status", ToString(r.status)},
+    result[name] = {{"status", status},
                     {"message", r.message},
                     {"method", r.method},
                     {"omega_start", w1},
@@ -275,8 +278,8 @@ nlohmann::json RunChirps(const Case& the_case, const ChirpSettings& chirp,
                     {"events", r.events},
                     {"file", r.cycles.empty() ? "" : file}};
     if (progress != nullptr) {
-      *progress << "nfrc validate: chirp " << name << ": " << ToString(r.status) << ", "
-                << r.cycles.size() << " cycles, " << r.wall_seconds << " s\n";
+      *progress << "nfrc validate: chirp " << name << ": " << status << ", " << r.cycles.size()
+                << " cycles, " << r.wall_seconds << " s\n";
     }
   }
   return result;
@@ -385,7 +388,10 @@ nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& set
         double best = INFINITY;
         for (size_t i = 0; i < solutions.size(); ++i) {
           const double d = Distance(m, solutions[i]);
-          if (d < best) best = d, match = static_cast<int>(i);
+          if (d < best) {
+            best = d;
+            match = static_cast<int>(i);
+          }
         }
         const HbmSolution& s = solutions[match];
         std::vector<double> h1, max_abs, rms;
@@ -459,6 +465,11 @@ bool ValidationComplete(const nlohmann::json& document) {
     if (point.at("hbm_solutions").empty()) return false;
     for (const auto& t : point.at("transients")) {
       if (t.at("status") == "failed") return false;
+    }
+  }
+  if (document.contains("chirp")) {
+    for (const auto& [direction, sweep] : document.at("chirp").items()) {
+      if (sweep.at("status") == "failed") return false;
     }
   }
   return true;

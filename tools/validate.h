@@ -23,8 +23,8 @@ nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& set
                              const std::string& out_dir, std::ostream* progress,
                              std::ostream* table, const std::atomic<bool>* stop = nullptr);
 
-// True if every transient of the document ran (periodic or not) and every ω had an HBM
-// solution: what `nfrc validate` turns into its exit status.
+// True if every transient and chirp of the document ran (periodic or not) and every ω had an
+// HBM solution: what `nfrc validate` turns into its exit status.
 bool ValidationComplete(const nlohmann::json& document);
 
 }  // namespace nfrc

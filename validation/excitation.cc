@@ -44,4 +44,15 @@ void Excitation::AddForce(double t, Eigen::Ref<Eigen::VectorXd> force) const {
   }
 }
 
+void Excitation::AddForceRate(double t, Eigen::Ref<Eigen::VectorXd> rate) const {
+  const double phase = Phase(t);
+  const double phase_rate = InstantaneousOmega(t);  // dφ/dt
+  for (const ForcingTerm& term : terms) {
+    assert(term.dof >= 0 && term.dof < rate.size());
+    const double k_phase = term.harmonic * phase;
+    rate(term.dof) +=
+        term.harmonic * phase_rate * (term.sin * std::cos(k_phase) - term.cos * std::sin(k_phase));
+  }
+}
+
 }  // namespace nfrc

@@ -26,6 +26,8 @@ struct Excitation {
   double InstantaneousOmega(double t) const;
   // Adds f(t) to `force` (size of the model).
   void AddForce(double t, Eigen::Ref<Eigen::VectorXd> force) const;
+  // Adds ḟ(t), the time derivative of f(t), to `rate` (for a differentiated momentum row).
+  void AddForceRate(double t, Eigen::Ref<Eigen::VectorXd> rate) const;
 };
 
 }  // namespace nfrc

@@ -87,6 +87,16 @@ FrictionTimeLaw::FrictionTimeLaw(int dof, int other, FrictionParameters paramete
 
 int FrictionTimeLaw::NumOwn() const { return IsExact(parameters_.equality) ? 1 : 0; }
 
+bool FrictionTimeLaw::OwnIsDifferential(int k) const {
+  return k == 0 && differentiated_ && massless_ && IsExact(parameters_.equality);
+}
+
+void FrictionTimeLaw::SnapOwn(const TimeLawLayout& /*layout*/, const DaeView& /*s*/,
+                              Eigen::Ref<Eigen::VectorXd> own) const {
+  // ṙ = 0 in slip keeps whatever r the slip started with: exactly the sliding force.
+  if (OwnIsDifferential(0) && mode_ != Mode::kStick) own(0) = -Sign(mode_) * parameters_.limit;
+}
+
 void FrictionTimeLaw::Residual(const TimeLawLayout& layout, const DaeView& s,
                                Eigen::Ref<Eigen::VectorXd> residual) const {
   const double v_rel = RelativeVelocity(dof_, other_, s);
@@ -96,10 +106,10 @@ void FrictionTimeLaw::Residual(const TimeLawLayout& layout, const DaeView& s,
     double own_row = 0.0;
     switch (mode_) {
       case Mode::kSlipPositive:
-        own_row = r + parameters_.limit;
+        own_row = OwnIsDifferential(0) ? s.own_dot(0) : r + parameters_.limit;
         break;
       case Mode::kSlipNegative:
-        own_row = r - parameters_.limit;
+        own_row = OwnIsDifferential(0) ? s.own_dot(0) : r - parameters_.limit;
         break;
       case Mode::kStick:
         // Index-1 stick: the relative acceleration (massless: the relative ẋ) vanishes.
@@ -128,7 +138,7 @@ void FrictionTimeLaw::Jacobian(const TimeLawLayout& layout, const DaeView& s, do
         entries->emplace_back(own, massless_ ? layout.X(other_) : layout.V(other_), -cj);
       }
     } else {
-      entries->emplace_back(own, own, 1.0);
+      entries->emplace_back(own, own, OwnIsDifferential(0) ? cj : 1.0);
     }
     return;
   }
@@ -160,8 +170,11 @@ void FrictionTimeLaw::Roots(const TimeLawLayout& /*layout*/, const DaeView& s, d
   if (!IsExact(parameters_.equality)) return;
   if (mode_ == Mode::kStick) {
     // The same bound as Admissible, so a stick accepted within the tolerance still releases.
-    // (Massless: exactly μN, since the slip's algebraic constraint on x must hold on release.)
-    const double bound = parameters_.limit * (massless_ ? 1.0 : 1.0 + tolerance_);
+    // Massless too: a stick entered at r = ∓μN exactly (a massless slider stops with the
+    // sliding force) would otherwise start its root at zero, and IDA loses a root that is zero
+    // at a restart, so a force moving outward would never release. (The slip's r = ∓μN is
+    // snapped and its constraint on x projected on release, so the slack does not remain.)
+    const double bound = parameters_.limit * (1.0 + tolerance_);
     g[0] = bound - s.own(0);
     g[1] = bound + s.own(0);
   } else {

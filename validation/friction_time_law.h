@@ -25,8 +25,18 @@ class FrictionTimeLaw : public TimeLaw {
   FrictionTimeLaw(int dof, int other, FrictionParameters parameters, bool massless,
                   double admissibility_tolerance = 1e-9);
 
+  // Massless and undamped DOF (exact laws): the integrator differentiates its momentum row,
+  // since in slip that row with r = ∓μN fixed would pin x (index 2). r then becomes a
+  // differential unknown held by ṙ = 0 in slip (snapped to ∓μN at each re-initialisation);
+  // the stick row ẋ_rel = 0 stays, and the differentiated row yields ṙ there.
+  void set_differentiated(bool differentiated) { differentiated_ = differentiated; }
+  bool differentiated() const { return differentiated_; }
+
   std::string type() const override { return "coulomb_friction"; }
   int NumOwn() const override;
+  bool OwnIsDifferential(int k) const override;
+  void SnapOwn(const TimeLawLayout& layout, const DaeView& s,
+               Eigen::Ref<Eigen::VectorXd> own) const override;
   void Residual(const TimeLawLayout& layout, const DaeView& s,
                 Eigen::Ref<Eigen::VectorXd> residual) const override;
   void Jacobian(const TimeLawLayout& layout, const DaeView& s, double cj,
@@ -53,6 +63,7 @@ class FrictionTimeLaw : public TimeLaw {
   FrictionParameters parameters_;
   bool massless_;
   double tolerance_;
+  bool differentiated_ = false;
   Mode mode_ = Mode::kStick;
 };
 

@@ -38,6 +38,9 @@ constexpr long kMaxEventsPerPeriod = 10000;
 // that root again, not a new crossing.
 constexpr double kRepeatedRootWindow = 1e-12;
 constexpr int kConsistentIterations = 3;  // F is affine in the unknowns: 1 suffices, 2 checks
+// Newton iterations of the projection onto the undifferentiated rows (affine for friction and
+// linear springs: 1 suffices; a polynomial spring on the row needs a few).
+constexpr int kProjectionIterations = 20;
 // The quadratures grow with time and rtol·|q| with them; zeroing them this often keeps their
 // error test and Newton test meaningful for one period's increment.
 constexpr int kQuadratureResetPeriods = 32;
@@ -171,7 +174,12 @@ class IdaRun {
     c_sym_ = model.model.damping + Eigen::SparseMatrix<double>(model.model.damping.transpose());
     differential_.assign(size_, true);
     for (int i = 0; i < n_; ++i) differential_[n_ + i] = !model.massless[i];
-    for (int j = 2 * n_; j < q_; ++j) differential_[j] = false;
+    for (size_t l = 0; l < model.laws.size(); ++l) {
+      for (int k = 0; k < model.laws[l]->NumOwn(); ++k) {
+        differential_[layouts_[l].Own(k)] = model.laws[l]->OwnIsDifferential(k);
+      }
+    }
+    FindReducedRows();
     force_.resize(n_);
     f_nl_.resize(n_);
     scratch_.resize(n_);
@@ -236,6 +244,9 @@ class IdaRun {
     for (size_t l = 0; l < model_.laws.size(); ++l) {
       model_.laws[l]->InitMode(layouts_[l], View(l, 0.0, Y(), YP()));
     }
+    // The differential own unknowns start at zero: take them from the undifferentiated rows
+    // (a sticking force from the start's displacements); a sliding one is snapped later.
+    if (!reduced_.empty() && !SolveOriginalRows(0.0, reduced_own_columns_)) return false;
     for (const auto& law : model_.laws) {
       LawPhaseLog log;
       log.type = law->type();
@@ -296,6 +307,8 @@ class IdaRun {
   bool ResetQuadratures() {
     last_fired_.assign(num_roots_, false);
     Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(sun_.y) + q_, kNumQuadratures).setZero();
+    // A differentiated row drifts from its original between restarts: project here too.
+    if (!reduced_.empty() && !MakeConsistent(t_)) return false;
     return Reinitialise();
   }
 
@@ -362,7 +375,92 @@ class IdaRun {
     }
   }
 
+  // Which momentum rows the integrator differentiates: those of massless DOFs with a zero
+  // damping row on which a law's differential own unknown acts (∂F/∂own ≠ 0). Without such an
+  // unknown an undamped massless row is left alone: K x = f of a linear row is then refused as
+  // inconsistent, as before (its index-2 velocity is not this reduction's business).
+  void FindReducedRows() {
+    std::vector<bool> damped(n_, false);
+    const Eigen::SparseMatrix<double>& damping = model_.model.damping;
+    for (int k = 0; k < damping.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(damping, k); it; ++it) {
+        if (it.value() != 0.0) damped[it.row()] = true;
+      }
+    }
+    // The pattern of the laws' ∂F/∂y at a zero state (the momentum-row entries of own
+    // unknowns do not depend on the state).
+    const std::vector<double> zeros(size_, 0.0);
+    Triplets entries;
+    for (size_t l = 0; l < model_.laws.size(); ++l) {
+      model_.laws[l]->Jacobian(layouts_[l], View(l, 0.0, zeros.data(), zeros.data()), 0.0,
+                               &entries);
+    }
+    reduced_index_.assign(n_, -1);
+    for (const auto& e : entries) {
+      const int dof = e.row() - n_;
+      if (dof < 0 || dof >= n_ || e.value() == 0.0 || e.col() < 2 * n_ || e.col() >= q_ ||
+          !differential_[e.col()] || !model_.massless[dof] || damped[dof]) {
+        continue;
+      }
+      if (reduced_index_[dof] < 0) {
+        reduced_index_[dof] = static_cast<int>(reduced_.size());
+        reduced_.push_back(dof);
+        reduced_own_columns_.push_back(-1);
+      }
+      // One own unknown per row to start from (distinct), for SolveOriginalRows at t = 0.
+      int& column = reduced_own_columns_[reduced_index_[dof]];
+      if (column < 0 && std::find(reduced_own_columns_.begin(), reduced_own_columns_.end(),
+                                  e.col()) == reduced_own_columns_.end()) {
+        column = e.col();
+      }
+    }
+    for (size_t i = 0; i < reduced_.size(); ++i) {
+      reduced_x_columns_.push_back(reduced_[i]);
+      // Rows sharing one own unknown (relative friction between two such DOFs): the others
+      // start from their own x instead.
+      if (reduced_own_columns_[i] < 0) reduced_own_columns_[i] = reduced_[i];
+    }
+    reduced_rows_.assign(size_, false);
+    for (int dof : reduced_) reduced_rows_[n_ + dof] = true;
+    j0_.resize(static_cast<Eigen::Index>(reduced_.size()), size_);
+    rate_.resize(n_);
+  }
+
+  // j0_ = ∂F/∂y of the reduced DOFs' original momentum rows at (t, y): their K rows and the
+  // laws' momentum-row entries (the mass and damping rows are zero).
+  void OriginalRowJacobian(double t, const double* y, const double* yp) const {
+    j0_.setZero();
+    for (const auto& e : stiffness_) {
+      const int i = reduced_index_[e.row() - n_];
+      if (i >= 0) j0_(i, e.col()) += e.value();
+    }
+    law_scratch_.clear();
+    for (size_t l = 0; l < model_.laws.size(); ++l) {
+      model_.laws[l]->Jacobian(layouts_[l], View(l, t, y, yp), 0.0, &law_scratch_);
+    }
+    for (const auto& e : law_scratch_) {
+      if (e.row() < n_ || e.row() >= 2 * n_) continue;
+      const int i = reduced_index_[e.row() - n_];
+      if (i >= 0) j0_(i, e.col()) += e.value();
+    }
+  }
+
+  // F with every momentum row in its original form; Residual then differentiates the reduced
+  // ones: Σ_j J0(d, j) ẏ_j − ḟ_d(t), exactly d/dt of the original row.
   void Residual(double t, const double* y, const double* yp, double* r) const {
+    OriginalResidual(t, y, yp, r);
+    if (reduced_.empty()) return;
+    OriginalRowJacobian(t, y, yp);
+    rate_.setZero();
+    excitation_.AddForceRate(t, rate_);
+    const Eigen::Map<const Eigen::VectorXd> ydot(yp, size_);
+    for (size_t i = 0; i < reduced_.size(); ++i) {
+      const int dof = reduced_[i];
+      r[n_ + dof] = j0_.row(static_cast<Eigen::Index>(i)).dot(ydot) - rate_(dof);
+    }
+  }
+
+  void OriginalResidual(double t, const double* y, const double* yp, double* r) const {
     Eigen::Map<const Eigen::VectorXd> x(y, n_), v(y + n_, n_), xdot(yp, n_), a(yp + n_, n_);
     Eigen::Map<Eigen::VectorXd> res(r, size_);
     res.setZero();
@@ -382,7 +480,9 @@ class IdaRun {
   }
 
   // Triplets of ∂F/∂y + cj ∂F/∂ẏ; the quadrature rows are dense (explicit zeros kept, so the
-  // sparsity pattern depends on the modes only).
+  // sparsity pattern depends on the modes only). A differentiated row's is cj·J0 (its
+  // ∂J0/∂y·ẏ part is left out: zero for laws linear in y within a mode, as friction, penalty
+  // contact and linear springs are; only the Newton rate suffers otherwise).
   void Assemble(double t, const double* y, const double* yp, double cj, Triplets* out) const {
     out->clear();
     for (int i = 0; i < n_; ++i) {
@@ -417,11 +517,67 @@ class IdaRun {
         out->emplace_back(q_ + 3, e.col(), -v(e.row() - n_) * e.value());
       }
     }
+    // The laws' momentum-row entries do not depend on cj (they are forces), so the entries of
+    // a reduced row so far are J0's: scale them.
+    if (reduced_.empty()) return;
+    for (size_t k = 0; k < law_end; ++k) {
+      const Eigen::Triplet<double> e = (*out)[k];
+      if (reduced_rows_[e.row()])
+        (*out)[k] = Eigen::Triplet<double>(e.row(), e.col(), cj * e.value());
+    }
+  }
+
+  // Newton on the reduced DOFs' original (undifferentiated) momentum rows for the unknowns
+  // y[columns] (one per reduced DOF), the rest held.
+  bool SolveOriginalRows(double t, const std::vector<int>& columns) {
+    double* y = N_VGetArrayPointer(sun_.y);
+    const double* yp = YP();
+    const int m = static_cast<int>(reduced_.size());
+    Eigen::VectorXd residual(size_), g(m);
+    Eigen::MatrixXd slope(m, m);
+    for (int iteration = 0; iteration < kProjectionIterations; ++iteration) {
+      OriginalResidual(t, y, yp, residual.data());
+      OriginalRowJacobian(t, y, yp);
+      for (int i = 0; i < m; ++i) {
+        g(i) = residual(n_ + reduced_[i]);
+        for (int c = 0; c < m; ++c) slope(i, c) = columns[c] >= 0 ? j0_(i, columns[c]) : 0.0;
+      }
+      const Eigen::FullPivLU<Eigen::MatrixXd> lu(slope);
+      if (!lu.isInvertible()) {
+        std::ostringstream out;
+        out << "no consistent state at t = " << t
+            << ": the massless DOFs' rows cannot be solved for their unknowns (singular)";
+        return Fail(out.str());
+      }
+      const Eigen::VectorXd step = lu.solve(-g);
+      if (!step.allFinite()) return Fail("no consistent state: non-finite projection");
+      double largest = 0.0;
+      for (int c = 0; c < m; ++c) {
+        y[columns[c]] += step(c);
+        largest = std::max(largest, std::abs(step(c)) / (1.0 + std::abs(y[columns[c]])));
+      }
+      if (largest <= 1e-15) break;
+    }
+    return true;
+  }
+
+  // Back onto the undifferentiated rows (their drift under the differentiated ones): the laws
+  // snap the differential own unknowns their modes fix, then Newton on x of the reduced DOFs.
+  bool ProjectReduced(double t) {
+    double* y = N_VGetArrayPointer(sun_.y);
+    for (size_t l = 0; l < model_.laws.size(); ++l) {
+      const int num_own = model_.laws[l]->NumOwn();
+      if (num_own == 0) continue;
+      Eigen::Map<Eigen::VectorXd> own(y + layouts_[l].own_offset, num_own);
+      model_.laws[l]->SnapOwn(layouts_[l], View(l, t, Y(), YP()), own);
+    }
+    return SolveOriginalRows(t, reduced_x_columns_);
   }
 
   // Solves F = 0 for ẏ of the differential unknowns and for the algebraic unknowns, x and the
   // massed v held (F is affine in those, so one Newton step solves it; a second checks).
   bool MakeConsistent(double t) {
+    if (!reduced_.empty() && !ProjectReduced(t)) return false;
     double* y = N_VGetArrayPointer(sun_.y);
     double* yp = N_VGetArrayPointer(sun_.yp);
     Eigen::VectorXd residual(size_);
@@ -606,6 +762,13 @@ class IdaRun {
   std::vector<TimeLawLayout> layouts_;
   std::vector<int> root_offsets_;
   std::vector<bool> differential_;
+  // Index reduction: the DOFs whose momentum rows are differentiated, each DOF's index among
+  // them (−1: none), an own unknown and the x column of each, and a flag per row of F.
+  std::vector<int> reduced_, reduced_index_, reduced_own_columns_, reduced_x_columns_;
+  std::vector<bool> reduced_rows_;
+  mutable Eigen::MatrixXd j0_;
+  mutable Eigen::VectorXd rate_;
+  mutable Triplets law_scratch_;
   Triplets stiffness_, damping_, mass_;
   Eigen::SparseMatrix<double> k_sym_, m_sym_, c_sym_;
   mutable Eigen::VectorXd force_, f_nl_, scratch_;

@@ -45,8 +45,19 @@ class TimeLaw {
   // The case-file type it came from, e.g. "coulomb_friction".
   virtual std::string type() const = 0;
 
-  // Own unknowns appended to y (e.g. the friction force); they are algebraic.
+  // Own unknowns appended to y (e.g. the friction force); they are algebraic unless
+  // OwnIsDifferential says otherwise.
   virtual int NumOwn() const { return 0; }
+
+  // Whether own unknown k is differential (its ẏ enters the DAE); fixed for the law's life.
+  // The integrator differentiates the momentum row of a massless, undamped DOF that such an
+  // unknown acts on (index reduction: that row alone would pin x once the force is fixed).
+  virtual bool OwnIsDifferential(int /*k*/) const { return false; }
+  // At a (re)initialisation, before consistent values are computed: sets the differential
+  // own unknowns that the current mode fixes (a sliding force to exactly ∓μN), so that they
+  // do not carry the root location's error into the mode.
+  virtual void SnapOwn(const TimeLawLayout& /*layout*/, const DaeView& /*s*/,
+                       Eigen::Ref<Eigen::VectorXd> /*own*/) const {}
 
   // Adds +f_nl to the momentum rows (`residual` is the whole F, size of y) and writes the
   // law's own rows, in the current mode.

@@ -1,7 +1,9 @@
 #include "validation/transient_model.h"
 
 #include <map>
+#include <memory>
 #include <stdexcept>
+#include <utility>
 
 #include "core/input_fields.h"
 #include "nonlinearities/coulomb_friction.h"
@@ -20,20 +22,32 @@ namespace {
 using TimeLawFactory = void (*)(const Nonlinearity& law, const std::string& path,
                                 TransientModel* out);
 
+// Whether row `dof` of a matrix has no nonzero entry.
+bool RowIsZero(const Eigen::SparseMatrix<double>& matrix, int dof) {
+  for (int j = 0; j < matrix.outerSize(); ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, j); it; ++it) {
+      if (it.row() == dof && it.value() != 0.0) return false;
+    }
+  }
+  return true;
+}
+
 void AddFriction(const Nonlinearity& law, const std::string& path, TransientModel* out) {
   const auto& friction = dynamic_cast<const CoulombFriction&>(law);
-  const bool massless =
-      out->massless[friction.dof()] || (friction.other() >= 0 && out->massless[friction.other()]);
-  if (massless && IsExact(friction.parameters().equality)) {
-    // Sliding pins a massless slider to the spring force ∓μN: an index-2 constraint that the
-    // integrator does not reduce yet (the HBM handles this case; see the README).
-    throw InputError(path +
-                     ".dof: exact friction on a massless DOF has no transient "
-                     "integration yet (index 2 while sliding); give the DOF a mass");
-  }
+  const int dof = friction.dof(), other = friction.other();
+  const bool massless = out->massless[dof] || (other >= 0 && out->massless[other]);
+  // Sliding pins a massless, undamped slider to the spring force ∓μN (index 2): the integrator
+  // differentiates that DOF's momentum row and the law's force becomes differential. A
+  // damped massless DOF keeps its index-1 form (its row holds C v).
+  auto undamped_massless = [&](int d) {
+    return d >= 0 && out->massless[d] && RowIsZero(out->model.damping, d);
+  };
+  const bool differentiated = massless && IsExact(friction.parameters().equality) &&
+                              (undamped_massless(dof) || undamped_massless(other));
   try {
-    out->laws.push_back(std::make_unique<FrictionTimeLaw>(friction.dof(), friction.other(),
-                                                          friction.parameters(), massless));
+    auto time_law = std::make_unique<FrictionTimeLaw>(dof, other, friction.parameters(), massless);
+    time_law->set_differentiated(differentiated);
+    out->laws.push_back(std::move(time_law));
   } catch (const std::invalid_argument& e) {
     throw InputError(path + ".law: " + e.what());
   }

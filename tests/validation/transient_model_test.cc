@@ -7,6 +7,7 @@
 
 #include "core/input_fields.h"
 #include "nonlinearities/registry.h"
+#include "validation/friction_time_law.h"
 #include "validation/period_measures.h"
 
 namespace nfrc {
@@ -64,8 +65,21 @@ TEST_CASE("Transient model: massless DOFs and refused inputs name the field") {
   CHECK(MakeTransientModel(massless, {}, spring).massless == std::vector<bool>{false, true});
   const auto friction = Laws(massless, {R"({"type": "coulomb_friction", "dof": 1, "mu": 0.9,
                                             "normal_load": 6.5})"});
-  CHECK_THROWS_WITH_AS(MakeTransientModel(massless, {}, friction),
-                       doctest::Contains("nonlinearities[0].dof"), InputError);
+  // Exact friction on a massless DOF: accepted. A damped one keeps the index-1 form; an
+  // undamped one gets its momentum row differentiated by the integrator (index 2 in slip).
+  const TransientModel damped = MakeTransientModel(massless, {}, friction);
+  CHECK(damped.massless == std::vector<bool>{false, true});
+  REQUIRE(damped.laws.size() == 1);
+  CHECK_FALSE(dynamic_cast<const FrictionTimeLaw&>(*damped.laws[0]).differentiated());
+  LinearModel undamped = TwoDof(0.0);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(2, 2);
+  c(0, 0) = 0.02;
+  undamped.damping = c.sparseView();
+  const TransientModel reduced = MakeTransientModel(undamped, {}, friction);
+  CHECK(reduced.massless == std::vector<bool>{false, true});
+  REQUIRE(reduced.laws.size() == 1);
+  CHECK(dynamic_cast<const FrictionTimeLaw&>(*reduced.laws[0]).differentiated());
+  CHECK(reduced.laws[0]->OwnIsDifferential(0));
 
   LinearModel coupled = TwoDof(0.0);
   Eigen::MatrixXd m(2, 2);

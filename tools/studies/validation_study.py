@@ -23,6 +23,8 @@ RUNS = [
     ("friction_point_e", "Friction point E (N = 10, ω = 0.308), N_φ = 160"),
     ("friction_point_a", "Friction point A (N = 8, ω = 0.618), N_φ = 160"),
     ("friction_n10", "Friction N = 10, N_φ = 60: 15 frequencies, chirp up and down"),
+    ("damper_mass_m2_0", "Damper mass m2 = 0 (massless interface), N = 6.5, ω = 0.4, N_φ = 160"),
+    ("damper_mass_m2_1", "Damper mass m2 = 1, N = 6.5, ω = 0.4, N_φ = 160"),
     ("rod_flexible_4krod", "Rod, flexible obstacle k_obs = 4 k_rod (DLFT, N_h = 20, N_t = 400)"),
     ("rod_rigid", "Rod, rigid obstacle (DLFT, N_h = 20, N_t = 400) vs central differences"),
 ]
