@@ -32,8 +32,7 @@
 #include "tools/lcp_hbm.h"
 #include "tools/run_case.h"
 #include "tools/validation_settings.h"
-#include "validation/central_difference.h"
-#include "validation/ida_integrator.h"
+#include "validation/make_integrator.h"
 
 namespace {
 
@@ -320,12 +319,8 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
   const nfrc::ValidationSettings settings = nfrc::ValidationSettings::Read(the_case.validation);
   nfrc::TransientModel model =
       nfrc::MakeTransientModel(the_case.model.model, the_case.model.forcing, the_case.laws);
-  std::unique_ptr<nfrc::TransientIntegrator> integrator;
-  if (model.rigid_contacts.empty()) {
-    integrator = std::make_unique<nfrc::IdaIntegrator>(model, settings.transient);
-  } else {
-    integrator = std::make_unique<nfrc::CentralDifferenceIntegrator>(model, settings.transient);
-  }
+  const std::unique_ptr<nfrc::TransientIntegrator> integrator =
+      nfrc::MakeTransientIntegrator(model, settings.transient);
   nfrc::InitialState rest;
   rest.x = Eigen::VectorXd::Zero(model.num_dofs());
   rest.v = rest.x;

@@ -14,8 +14,7 @@
 #include "tools/output_files.h"
 #include "tools/point_measures.h"
 #include "tools/run_case.h"
-#include "validation/central_difference.h"
-#include "validation/ida_integrator.h"
+#include "validation/make_integrator.h"
 #include "validation/period_measures.h"
 
 namespace nfrc {
@@ -295,12 +294,8 @@ nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& set
   Case transient_case = ParseCase(the_case.source, the_case.base_dir);
   TransientModel transient_model = MakeTransientModel(
       transient_case.model.model, transient_case.model.forcing, transient_case.laws);
-  std::unique_ptr<TransientIntegrator> integrator;
-  if (transient_model.rigid_contacts.empty()) {
-    integrator = std::make_unique<IdaIntegrator>(transient_model, settings.transient);
-  } else {
-    integrator = std::make_unique<CentralDifferenceIntegrator>(transient_model, settings.transient);
-  }
+  const std::unique_ptr<TransientIntegrator> integrator =
+      MakeTransientIntegrator(transient_model, settings.transient);
   const int n = settings.transient.samples_per_period;
   if (n < 2 * the_case.harmonics.max_harmonic() + 1) {
     throw InputError("validation.transient.samples_per_period: " + std::to_string(n) +

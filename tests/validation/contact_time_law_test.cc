@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/rk4.h"
 #include "validation/ida_integrator.h"
 #include "validation/time_law_check.h"
 
@@ -142,16 +143,10 @@ struct ImpactOscillator {
   double Accel(double t, double x, double v, bool closed) const {
     return force * std::cos(omega * t) - c * v - k * x - (closed ? kc * (x - gap) : 0.0);
   }
-  // One classical RK4 step of length h in a fixed mode.
+  // One RK4 step of length h in a fixed mode.
   void Step(double t, double h, bool closed, double* x, double* v) const {
-    const double k1x = *v, k1v = Accel(t, *x, *v, closed);
-    const double k2x = *v + 0.5 * h * k1v,
-                 k2v = Accel(t + 0.5 * h, *x + 0.5 * h * k1x, k2x, closed);
-    const double k3x = *v + 0.5 * h * k2v,
-                 k3v = Accel(t + 0.5 * h, *x + 0.5 * h * k2x, k3x, closed);
-    const double k4x = *v + h * k3v, k4v = Accel(t + h, *x + h * k3x, k4x, closed);
-    *x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    *v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    testing::Rk4Step([&](double tt, double xx, double vv) { return Accel(tt, xx, vv, closed); }, t,
+                     h, x, v);
   }
 };
 

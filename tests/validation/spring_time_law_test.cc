@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "support/rk4.h"
 #include "validation/ida_integrator.h"
 #include "validation/time_law_check.h"
 
@@ -106,12 +107,8 @@ Eigen::VectorXd Rk4Reference(const Duffing& d, int periods, int samples, int ste
     for (int i = 0; i < steps; ++i) {
       if (p == periods - 1 && i % steps_per_sample == 0) recorded(i / steps_per_sample) = x;
       const double t = (static_cast<double>(p) * steps + i) * h;
-      const double k1x = v, k1v = d.Accel(t, x, v);
-      const double k2x = v + 0.5 * h * k1v, k2v = d.Accel(t + 0.5 * h, x + 0.5 * h * k1x, k2x);
-      const double k3x = v + 0.5 * h * k2v, k3v = d.Accel(t + 0.5 * h, x + 0.5 * h * k2x, k3x);
-      const double k4x = v + h * k3v, k4v = d.Accel(t + h, x + h * k3x, k4x);
-      x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      testing::Rk4Step([&](double tt, double xx, double vv) { return d.Accel(tt, xx, vv); }, t, h,
+                       &x, &v);
     }
   }
   return recorded;
