@@ -33,4 +33,11 @@ struct ForcingTerm {
   double sin = 0.0;
 };
 
+// A linear model with its external forcing: what a case's "model" describes, built once by
+// a reader (matrices loaded) and copied by value wherever a system is built from it.
+struct ModelDefinition {
+  LinearModel model;
+  std::vector<ForcingTerm> forcing;
+};
+
 }  // namespace nfrc

@@ -4,7 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 
 namespace nfrc {
 

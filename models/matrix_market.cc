@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {

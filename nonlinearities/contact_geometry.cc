@@ -5,45 +5,6 @@
 
 namespace nfrc {
 
-ContactGeometry ContactGeometry::Read(InputFields& fields, const LinearModel& model) {
-  ContactGeometry geometry;
-  geometry.dof = fields.RequiredDof("dof", model);
-  if (fields.Has("other")) {
-    geometry.other = fields.RequiredDof("other", model);
-    if (geometry.other == geometry.dof) fields.Fail("other", "must differ from dof");
-  }
-  geometry.direction = fields.OptionalNumber("direction", 1.0);
-  if (geometry.direction != 1.0 && geometry.direction != -1.0) {
-    fields.Fail("direction", "must be 1 (obstacle on the positive side) or -1");
-  }
-  const nlohmann::json& gap = fields.RequiredValue("gap");
-  if (gap.is_number()) {
-    geometry.gap = gap.get<double>();
-  } else if (gap.is_object()) {
-    InputFields gap_fields(gap, fields.path() + ".gap");
-    geometry.gap = gap_fields.OptionalNumber("constant", 0.0);
-    if (gap_fields.Has("harmonics")) {
-      const nlohmann::json& list = gap_fields.RequiredValue("harmonics");
-      if (!list.is_array()) gap_fields.Fail("harmonics", "expected a list");
-      for (size_t i = 0; i < list.size(); ++i) {
-        InputFields term(list[i], gap_fields.path() + ".harmonics[" + std::to_string(i) + "]");
-        GapHarmonic h;
-        h.harmonic = term.RequiredInt("harmonic");
-        if (h.harmonic < 1) term.Fail("harmonic", "must be at least 1 (use constant for 0)");
-        h.cos = term.OptionalNumber("cos", 0.0);
-        h.sin = term.OptionalNumber("sin", 0.0);
-        term.Finish();
-        geometry.gap_harmonics.push_back(h);
-      }
-    }
-    gap_fields.Finish();
-  } else {
-    fields.Fail("gap", "expected a number (m) or an object {constant, harmonics}");
-  }
-  if (!std::isfinite(geometry.gap)) fields.Fail("gap", "must be finite");
-  return geometry;
-}
-
 std::vector<int> ContactGeometry::Dofs() const {
   if (other < 0) return {dof};
   return {dof, other};
@@ -92,29 +53,6 @@ void ContactGeometry::AddForce(const NonlinearityContext& ctx, const Eigen::Vect
   if (other >= 0) residual.segment(ctx.DofOffset(1), nc) -= direction * force;
 }
 
-LagrangianContactSpec LagrangianContactSpec::Read(InputFields& fields, const LinearModel& model) {
-  LagrangianContactSpec spec;
-  spec.geometry = ContactGeometry::Read(fields, model);
-  if (fields.Has("obstacle_stiffness")) {
-    spec.obstacle_stiffness = fields.RequiredNumber("obstacle_stiffness");
-    if (!(spec.obstacle_stiffness > 0.0) || !std::isfinite(spec.obstacle_stiffness)) {
-      fields.Fail("obstacle_stiffness",
-                  "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
-    }
-    if (spec.geometry.other >= 0) {
-      fields.Fail("obstacle_stiffness",
-                  "not allowed with other: the second body is then part of the model");
-    }
-  }
-  if (fields.Has("epsilon")) {
-    spec.epsilon = fields.RequiredNumber("epsilon");
-    if (!(spec.epsilon > 0.0) || !std::isfinite(spec.epsilon)) {
-      fields.Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
-    }
-  }
-  return spec;
-}
-
 void LagrangianContactSpec::Validate() const {
   if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
     throw std::invalid_argument("obstacle_stiffness: must be finite and > 0 (0 = rigid)");
@@ -152,9 +90,7 @@ double LagrangianContactSpec::DefaultEpsilon(const NonlinearityContext& ctx) con
 }
 
 double LagrangianContactSpec::EpsilonFor(const NonlinearityContext& ctx) const {
-  if (epsilon > 0.0) return epsilon;
-  if (!resolved_epsilon) resolved_epsilon = DefaultEpsilon(ctx);
-  return *resolved_epsilon;
+  return epsilon > 0.0 ? epsilon : DefaultEpsilon(ctx);
 }
 
 std::map<std::string, double> ContactDiagnostics(const ContactState& state,

@@ -8,9 +8,9 @@
 
 #include "core/fourier_transform.h"
 #include "core/harmonic_set.h"
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "core/linear_model.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -31,9 +31,6 @@ struct ContactGeometry {
   double gap = 0.0;                        // constant part of g0 (m)
   std::vector<GapHarmonic> gap_harmonics;  // time-varying part of g0
 
-  // Reads "dof", "other", "direction" and "gap" (a number, or
-  // {"constant": g, "harmonics": [{"harmonic": k, "cos": a, "sin": b}, ...]}).
-  static ContactGeometry Read(InputFields& fields, const LinearModel& model);
 
   std::vector<int> Dofs() const;
   // Coefficients of g0 in `set`; throws std::invalid_argument naming "gap" if a gap
@@ -57,7 +54,6 @@ struct LagrangianContactSpec {
   double obstacle_stiffness = 0.0;
   double epsilon = 0.0;
 
-  static LagrangianContactSpec Read(InputFields& fields, const LinearModel& model);
   // Throws std::invalid_argument naming the field for a negative or non-finite value, or an
   // obstacle stiffness together with `other`.
   void Validate() const;
@@ -68,13 +64,8 @@ struct LagrangianContactSpec {
   // context's DOFs. Throws std::invalid_argument naming "epsilon" if a rigid contact's set
   // has no harmonic 0 or the static stiffness vanishes.
   double DefaultEpsilon(const NonlinearityContext& ctx) const;
-  // ε in use (N/m): `epsilon`, or the default resolved once at the first call (it depends
-  // only on K and the obstacle).
+  // ε in use (N/m): `epsilon`, or the default (cheap: a sum over the contact's DOFs).
   double EpsilonFor(const NonlinearityContext& ctx) const;
-  // The same without a context: 0 while the default is unresolved.
-  double EpsilonInUse() const { return epsilon > 0.0 ? epsilon : resolved_epsilon.value_or(0.0); }
-
-  mutable std::optional<double> resolved_epsilon;
 };
 
 // Outputs shared by contact laws at a solution. `gap` and `force` are the gap and contact

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "core/input_fields.h"
+#include "nonlinearities/law_spec.h"
 #include "nonlinearities/phase_count.h"
 
 namespace nfrc {
@@ -28,44 +28,9 @@ CoulombFriction::CoulombFriction(int dof, int other, FrictionParameters paramete
   }
 }
 
-std::unique_ptr<Nonlinearity> CoulombFriction::FromJson(const nlohmann::json& spec,
-                                                        const std::string& path,
-                                                        const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  const int dof = fields.RequiredDof("dof", model);
-  const int other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (dof == other) fields.Fail("other", "must differ from dof");
-  const double mu = fields.RequiredNumber("mu");
-  const double normal_load = fields.RequiredNumber("normal_load");
-  if (mu < 0.0) fields.Fail("mu", "must be non-negative");
-  if (normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
-  FrictionParameters parameters;
-  parameters.limit = mu * normal_load;
-  const std::string law = fields.OptionalString("law", "min_max");
-  if (!ParseFrictionEquality(law, &parameters.equality)) {
-    fields.Fail("law", "unknown friction law \"" + law +
-                           "\" (known: min_max, hueber, tanh, arctan, piecewise_linear, sign)");
-  }
-  const bool exact = IsExact(parameters.equality);
-  const bool regularised = parameters.equality == FrictionEquality::kTanh ||
-                           parameters.equality == FrictionEquality::kArctan;
-  const bool linear = parameters.equality == FrictionEquality::kPiecewiseLinear;
-  auto positive = [&](const std::string& key, bool wanted, double fallback) {
-    if (!wanted) {
-      if (fields.Has(key)) fields.Fail(key, "does not apply to law \"" + law + "\"");
-      return fallback;
-    }
-    if (fallback == 0.0 && !fields.Has(key)) fields.Fail(key, "required by law \"" + law + "\"");
-    const double value = fields.OptionalNumber(key, fallback);
-    if (!(value > 0.0)) fields.Fail(key, "must be positive");
-    return value;
-  };
-  parameters.rho = positive("rho", exact, 1.0);
-  parameters.alpha = positive("alpha", regularised, 0.0);
-  parameters.delta = positive("delta", linear, 0.0);
-  fields.Finish();
-  return std::make_unique<CoulombFriction>(dof, other, parameters);
+
+std::unique_ptr<Nonlinearity> CoulombFrictionSpec::MakeHarmonic() const {
+  return std::make_unique<CoulombFriction>(dof, other, Parameters());
 }
 
 std::vector<int> CoulombFriction::Dofs() const {

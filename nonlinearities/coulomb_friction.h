@@ -1,12 +1,11 @@
 #pragma once
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/linear_model.h"
 #include "nonlinearities/friction_equality.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -23,11 +22,6 @@ class CoulombFriction : public Nonlinearity {
   // chosen equality that is not positive.
   CoulombFriction(int dof, int other, FrictionParameters parameters);
 
-  // Case-file "coulomb_friction": {dof, [other], mu, normal_load, [law], [rho], [alpha],
-  // [delta]}.
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec,
-                                                const std::string& path,
-                                                const LinearModel& model);
 
   std::string type() const override { return "coulomb_friction"; }
   std::vector<int> Dofs() const override;

@@ -1,5 +1,7 @@
 #include "nonlinearities/dlft_contact.h"
 
+#include "nonlinearities/law_spec.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -19,19 +21,14 @@ const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega)
 }  // namespace
 
 DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon)
-    : spec_{std::move(geometry), obstacle_stiffness, epsilon, std::nullopt} {
+    : spec_{std::move(geometry), obstacle_stiffness, epsilon} {
   spec_.Validate();
 }
 
-std::unique_ptr<Nonlinearity> DlftContact::FromJson(const nlohmann::json& spec,
-                                                    const std::string& path,
-                                                    const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  LagrangianContactSpec read = LagrangianContactSpec::Read(fields, model);
-  fields.Finish();
-  return std::make_unique<DlftContact>(std::move(read.geometry), read.obstacle_stiffness,
-                                       read.epsilon);
+
+std::unique_ptr<Nonlinearity> DlftContactSpec::MakeHarmonic() const {
+  return std::make_unique<DlftContact>(contact.geometry, contact.obstacle_stiffness,
+                                       contact.epsilon);
 }
 
 void DlftContact::set_epsilon(double epsilon) {
@@ -73,13 +70,13 @@ DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
 
 DlftContact::Prediction DlftContact::PredictAt(const NonlinearityContext& ctx,
                                                const Eigen::VectorXd& y, double omega) const {
-  return Predict(ctx, y, Rows(ctx, omega, false), spec_.EpsilonFor(ctx));
+  return Predict(ctx, y, Rows(ctx, omega, false), EpsilonFor(ctx));
 }
 
 void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                            Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                            Eigen::VectorXd* d_omega) const {
-  const double epsilon = spec_.EpsilonFor(ctx);
+  const double epsilon = EpsilonFor(ctx);
   const LinearRows rows = Rows(ctx, omega, false);
   const Prediction p = Predict(ctx, y, rows, epsilon);
   spec_.geometry.AddForce(ctx, p.state.force_coefficients, residual);
@@ -131,7 +128,7 @@ std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext
                                                        const FourierTransform& fine) const {
   std::map<std::string, double> diagnostics =
       ContactDiagnostics(PredictAt(ctx, y, omega).state, fine);
-  diagnostics["epsilon"] = spec_.EpsilonFor(ctx);
+  diagnostics["epsilon"] = EpsilonFor(ctx);
   return diagnostics;
 }
 

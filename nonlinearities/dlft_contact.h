@@ -1,12 +1,11 @@
 #pragma once
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/linear_model.h"
 #include "nonlinearities/contact_geometry.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -26,12 +25,15 @@ class DlftContact : public Nonlinearity {
   // obstacle_stiffness: N/m, 0 = rigid. epsilon: N/m, 0 = default (DefaultEpsilon).
   DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon);
 
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec, const std::string& path,
-                                                const LinearModel& model);
-
   std::string type() const override { return "dlft_contact"; }
   std::vector<int> Dofs() const override { return spec_.geometry.Dofs(); }
   std::vector<double> ObstacleCompliance() const override { return spec_.ObstacleCompliance(); }
+  // Checks the gap against the harmonic set and resolves the default ε once the system's
+  // condensation is known.
+  void Bind(const NonlinearityContext& ctx) override {
+    spec_.geometry.GapCoefficients(ctx.harmonic_set());
+    resolved_epsilon_ = spec_.EpsilonFor(ctx);
+  }
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
@@ -48,8 +50,13 @@ class DlftContact : public Nonlinearity {
   // 0.5 instead of k_obs = 100).
   double DefaultEpsilon(const NonlinearityContext& ctx) const { return spec_.DefaultEpsilon(ctx); }
 
-  // ε in use (the configured one, or the default once resolved by an evaluation; 0 before).
-  double epsilon() const { return spec_.EpsilonInUse(); }
+  // ε in use (the configured one, or the default once Bind resolved it; 0 before).
+  double epsilon() const { return spec_.epsilon > 0.0 ? spec_.epsilon : resolved_epsilon_; }
+  // ε for an evaluation in `ctx` (N/m).
+  double EpsilonFor(const NonlinearityContext& ctx) const {
+    if (spec_.epsilon > 0.0) return spec_.epsilon;
+    return resolved_epsilon_ > 0.0 ? resolved_epsilon_ : spec_.EpsilonFor(ctx);
+  }
   // For ε-refinement: sets ε (N/m, > 0) for later evaluations.
   void set_epsilon(double epsilon);
   const ContactGeometry& geometry() const { return spec_.geometry; }
@@ -75,6 +82,7 @@ class DlftContact : public Nonlinearity {
                        double omega) const;
 
   LagrangianContactSpec spec_;
+  double resolved_epsilon_ = 0.0;  // N/m, set by Bind when ε is the default
 };
 
 }  // namespace nfrc

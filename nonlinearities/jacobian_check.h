@@ -4,7 +4,7 @@
 #include <functional>
 
 #include "core/condensation.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 

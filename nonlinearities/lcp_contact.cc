@@ -1,5 +1,7 @@
 #include "nonlinearities/lcp_contact.h"
 
+#include "nonlinearities/law_spec.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -8,26 +10,17 @@ namespace nfrc {
 
 LcpContact::LcpContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon,
                        double smoothing)
-    : spec_{std::move(geometry), obstacle_stiffness, epsilon, std::nullopt}, smoothing_(smoothing) {
+    : spec_{std::move(geometry), obstacle_stiffness, epsilon}, smoothing_(smoothing) {
   spec_.Validate();
   if (!(smoothing_ >= 0.0) || !std::isfinite(smoothing_)) {
     throw std::invalid_argument("smoothing: must be finite and >= 0 (m)");
   }
 }
 
-std::unique_ptr<Nonlinearity> LcpContact::FromJson(const nlohmann::json& spec,
-                                                   const std::string& path,
-                                                   const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  LagrangianContactSpec read = LagrangianContactSpec::Read(fields, model);
-  const double smoothing = fields.OptionalNumber("smoothing", 0.0);
-  if (!(smoothing >= 0.0) || !std::isfinite(smoothing)) {
-    fields.Fail("smoothing", "must be finite and >= 0 (m; 0 = exact complementarity)");
-  }
-  fields.Finish();
-  return std::make_unique<LcpContact>(std::move(read.geometry), read.obstacle_stiffness,
-                                      read.epsilon, smoothing);
+
+std::unique_ptr<Nonlinearity> LcpContactSpec::MakeHarmonic() const {
+  return std::make_unique<LcpContact>(contact.geometry, contact.obstacle_stiffness,
+                                      contact.epsilon, smoothing);
 }
 
 void LcpContact::CheckForContinuation(const HarmonicSet& set) const {

@@ -1,12 +1,11 @@
 #pragma once
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/linear_model.h"
 #include "nonlinearities/contact_geometry.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -32,12 +31,15 @@ class LcpContact : public Nonlinearity {
   LcpContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon,
              double smoothing = 0.0);
 
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec, const std::string& path,
-                                                const LinearModel& model);
-
   std::string type() const override { return "lcp_contact"; }
   std::vector<int> Dofs() const override { return spec_.geometry.Dofs(); }
   std::vector<double> ObstacleCompliance() const override { return spec_.ObstacleCompliance(); }
+  // Checks the gap against the harmonic set and resolves the default ε once the system's
+  // condensation is known.
+  void Bind(const NonlinearityContext& ctx) override {
+    spec_.geometry.GapCoefficients(ctx.harmonic_set());
+    resolved_epsilon_ = spec_.EpsilonFor(ctx);
+  }
   int NumOwnUnknowns(const HarmonicSet& set) const override { return set.num_samples(); }
   bool OwnUnknownsAreCoefficients() const override { return false; }
   void CheckForContinuation(const HarmonicSet& set) const override;
@@ -60,12 +62,16 @@ class LcpContact : public Nonlinearity {
   const ContactGeometry& geometry() const { return spec_.geometry; }
   double obstacle_stiffness() const { return spec_.obstacle_stiffness; }
   // ε in use (N/m): the configured one or the default; own unknown j is λ_j/ε.
-  double EpsilonFor(const NonlinearityContext& ctx) const { return spec_.EpsilonFor(ctx); }
+  double EpsilonFor(const NonlinearityContext& ctx) const {
+    if (spec_.epsilon > 0.0) return spec_.epsilon;
+    return resolved_epsilon_ > 0.0 ? resolved_epsilon_ : spec_.EpsilonFor(ctx);
+  }
 
  private:
   ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y) const;
 
   LagrangianContactSpec spec_;
+  double resolved_epsilon_ = 0.0;  // N/m, set by Bind when ε is the default
   double smoothing_;  // m
 };
 

@@ -1,5 +1,7 @@
 #include "nonlinearities/penalty_contact.h"
 
+#include "nonlinearities/law_spec.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -12,18 +14,9 @@ PenaltyContact::PenaltyContact(ContactGeometry geometry, double stiffness)
   }
 }
 
-std::unique_ptr<Nonlinearity> PenaltyContact::FromJson(const nlohmann::json& spec,
-                                                       const std::string& path,
-                                                       const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  ContactGeometry geometry = ContactGeometry::Read(fields, model);
-  const double stiffness = fields.RequiredNumber("stiffness");
-  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
-    fields.Fail("stiffness", "must be finite and > 0 (N/m)");
-  }
-  fields.Finish();
-  return std::make_unique<PenaltyContact>(std::move(geometry), stiffness);
+
+std::unique_ptr<Nonlinearity> PenaltyContactSpec::MakeHarmonic() const {
+  return std::make_unique<PenaltyContact>(geometry, stiffness);
 }
 
 ContactState PenaltyContact::State(const NonlinearityContext& ctx, const Eigen::VectorXd& y) const {

@@ -1,12 +1,11 @@
 #pragma once
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/linear_model.h"
 #include "nonlinearities/contact_geometry.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -18,11 +17,12 @@ class PenaltyContact : public Nonlinearity {
  public:
   PenaltyContact(ContactGeometry geometry, double stiffness);
 
-  static std::unique_ptr<Nonlinearity> FromJson(const nlohmann::json& spec, const std::string& path,
-                                                const LinearModel& model);
-
   std::string type() const override { return "penalty_contact"; }
   std::vector<int> Dofs() const override { return geometry_.Dofs(); }
+  // A gap harmonic outside the set is an input error, found before the first solve.
+  void Bind(const NonlinearityContext& ctx) override {
+    geometry_.GapCoefficients(ctx.harmonic_set());
+  }
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/input_fields.h"
+#include "nonlinearities/law_spec.h"
 
 namespace nfrc {
 
@@ -19,45 +19,13 @@ PolynomialSpring::PolynomialSpring(std::string type, int dof, int other, std::ve
   if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
 }
 
-namespace {
-
-std::unique_ptr<Nonlinearity> MakeSpring(InputFields& fields, const std::string& type,
-                                         const LinearModel& model,
-                                         std::vector<PolynomialSpring::Term> terms) {
-  const int dof = fields.RequiredDof("dof", model);
-  const int other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (dof == other) fields.Fail("other", "must differ from dof");
-  fields.Finish();
-  return std::make_unique<PolynomialSpring>(type, dof, other, std::move(terms));
+std::unique_ptr<Nonlinearity> CubicSpringSpec::MakeHarmonic() const {
+  return std::make_unique<PolynomialSpring>(std::string(kType), dof, other,
+                                            std::vector<PolynomialSpring::Term>{{3, coefficient}});
 }
 
-}  // namespace
-
-std::unique_ptr<Nonlinearity> PolynomialSpring::CubicFromJson(const nlohmann::json& spec,
-                                                              const std::string& path,
-                                                              const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  const double coefficient = fields.RequiredNumber("coefficient");
-  return MakeSpring(fields, "cubic_spring", model, {Term{3, coefficient}});
-}
-
-std::unique_ptr<Nonlinearity> PolynomialSpring::PolynomialFromJson(const nlohmann::json& spec,
-                                                                   const std::string& path,
-                                                                   const LinearModel& model) {
-  InputFields fields(spec, path);
-  fields.RequiredString("type");
-  const nlohmann::json& list = fields.RequiredValue("terms");
-  if (!list.is_array() || list.empty()) fields.Fail("terms", "expected a non-empty list");
-  std::vector<Term> terms;
-  for (size_t i = 0; i < list.size(); ++i) {
-    InputFields term(list[i], path + ".terms[" + std::to_string(i) + "]");
-    const int power = term.RequiredInt("power");
-    if (power < 2) term.Fail("power", "must be at least 2 (linear terms belong in K)");
-    terms.push_back(Term{power, term.RequiredNumber("coefficient")});
-    term.Finish();
-  }
-  return MakeSpring(fields, "polynomial_spring", model, std::move(terms));
+std::unique_ptr<Nonlinearity> PolynomialSpringSpec::MakeHarmonic() const {
+  return std::make_unique<PolynomialSpring>(std::string(kType), dof, other, terms);
 }
 
 std::vector<int> PolynomialSpring::Dofs() const {

@@ -1,11 +1,10 @@
 #pragma once
 
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "core/linear_model.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -22,15 +21,6 @@ class PolynomialSpring : public Nonlinearity {
   // other < 0 means ground. Throws std::invalid_argument for an empty term list, p < 2,
   // or dof == other.
   PolynomialSpring(std::string type, int dof, int other, std::vector<Term> terms);
-
-  // Case-file factories: "cubic_spring" {dof, [other], coefficient} and
-  // "polynomial_spring" {dof, [other], terms: [{power, coefficient}, ...]}.
-  static std::unique_ptr<Nonlinearity> CubicFromJson(const nlohmann::json& spec,
-                                                     const std::string& path,
-                                                     const LinearModel& model);
-  static std::unique_ptr<Nonlinearity> PolynomialFromJson(const nlohmann::json& spec,
-                                                          const std::string& path,
-                                                          const LinearModel& model);
 
   std::string type() const override { return type_; }
   std::vector<int> Dofs() const override;

@@ -3,13 +3,15 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/input_fields.h"
-#include "nonlinearities/registry.h"
+#include "tools/input_fields.h"
+#include "tools/law_reader.h"
+#include "tools/model_reader.h"
+#include "tools/validation_reader.h"
 
 namespace nfrc {
 namespace {
 
-HarmonicSet ReadHarmonics(const nlohmann::json& spec) {
+HarmonicSet ReadHarmonics(const nlohmann::json& spec, int num_dofs) {
   InputFields fields(spec, "harmonics");
   const int max_harmonic = fields.RequiredInt("max");
   const bool odd_only = fields.OptionalBool("odd_only", false);
@@ -21,6 +23,13 @@ HarmonicSet ReadHarmonics(const nlohmann::json& spec) {
     fields.Fail("samples", "must be at least 2*max+1 = " + std::to_string(2 * max_harmonic + 1) +
                                ", got " + std::to_string(samples));
   }
+  // Refuse what cannot fit before the harmonic set and its transforms are allocated.
+  ProblemDimensions dimensions;
+  dimensions.num_dofs = num_dofs;
+  dimensions.max_harmonic = max_harmonic;
+  dimensions.odd_only = odd_only;
+  dimensions.samples = samples;
+  CheckProblemSize(dimensions);
   return HarmonicSet(max_harmonic, odd_only, samples);
 }
 
@@ -35,8 +44,9 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
     fields.Fail("omega_end", "must differ from omega_start");
   }
   options.lambda_name = "omega";
-  result.method = fields.OptionalString("method", "arclength");
-  if (result.method == "lemke_stepping") {
+  const std::string method = fields.OptionalString("method", "arclength");
+  if (method == "lemke_stepping") {
+    result.method = Method::kLemkeStepping;
     // The arclength settings do not apply; Finish() rejects them.
     result.stepping.points = fields.OptionalInt("points", result.stepping.points);
     if (result.stepping.points < 2) fields.Fail("points", "must be at least 2");
@@ -45,9 +55,8 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
     fields.Finish();
     return options;
   }
-  if (result.method != "arclength") {
-    fields.Fail("method",
-                "must be \"arclength\" or \"lemke_stepping\", got \"" + result.method + "\"");
+  if (method != "arclength") {
+    fields.Fail("method", "must be \"arclength\" or \"lemke_stepping\", got \"" + method + "\"");
   }
   options.initial_step = fields.OptionalNumber("step", options.initial_step);
   options.min_step = fields.OptionalNumber("min_step", options.min_step);
@@ -78,13 +87,11 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
 Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
   InputFields fields(source, "case");
   Case result;
-  result.source = source;
-  result.base_dir = base_dir;
-  fields.OptionalString("title", "");
+  result.title = fields.OptionalString("title", "");
   result.model = BuildModel(fields.RequiredObject("model"), base_dir);
   const LinearModel& model = result.model.model;
 
-  result.harmonics = ReadHarmonics(fields.RequiredObject("harmonics"));
+  result.harmonics = ReadHarmonics(fields.RequiredObject("harmonics"), model.num_dofs());
   for (const ForcingTerm& term : result.model.forcing) {
     const auto& list = result.harmonics.harmonics();
     if (std::find(list.begin(), list.end(), term.harmonic) == list.end()) {
@@ -97,8 +104,7 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
     const nlohmann::json& list = fields.RequiredValue("nonlinearities");
     if (!list.is_array()) fields.Fail("nonlinearities", "expected a list");
     for (size_t i = 0; i < list.size(); ++i) {
-      result.laws.push_back(
-          MakeNonlinearity(list[i], "nonlinearities[" + std::to_string(i) + "]", model));
+      result.laws.push_back(ReadLaw(list[i], "nonlinearities[" + std::to_string(i) + "]", model));
     }
   }
 
@@ -118,28 +124,33 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
     if (!(omega > 0.0)) output.Fail("signals_at", "frequencies must be positive");
   }
   output.Finish();
-  if (fields.Has("validation")) result.validation = fields.RequiredObject("validation");
+  if (fields.Has("validation")) {
+    result.validation = ReadValidationSettings(fields.RequiredObject("validation"));
+  }
   fields.Finish();
+  result.Validate();
   return result;
 }
 
-Case LoadCase(const std::string& path) {
+CaseFile ReadCaseFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open case file");
-  nlohmann::json source;
+  CaseFile file;
   try {
-    source = nlohmann::json::parse(in);
+    file.source = nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& error) {
     throw InputError(path + ": not valid JSON (" + error.what() + ")");
   }
   const std::string base_dir = std::filesystem::absolute(path).parent_path().string();
   try {
-    Case result = ParseCase(source, base_dir);
-    result.path = path;
-    return result;
+    file.the_case = ParseCase(file.source, base_dir);
+    file.the_case.path = path;
   } catch (const InputError& error) {
     throw InputError(path + ": " + error.what());
   }
+  return file;
 }
+
+Case LoadCase(const std::string& path) { return ReadCaseFile(path).the_case; }
 
 }  // namespace nfrc

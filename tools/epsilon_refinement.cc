@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "continuation/fixed_lambda.h"
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 #include "nonlinearities/dlft_contact.h"
 #include "tools/branch_writer.h"
 #include "tools/lcp_hbm.h"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 #include "tools/epsilon_refinement.h"
 #include "tools/run_case.h"
 #include "tools/validate.h"

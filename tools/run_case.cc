@@ -4,7 +4,7 @@
 #include <ostream>
 
 #include "continuation/fixed_lambda.h"
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 #include "tools/branch_writer.h"
 #include "tools/lcp_stepping.h"
 

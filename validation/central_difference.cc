@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "core/lemke.h"
 #include "validation/time_law_check.h"
 

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {

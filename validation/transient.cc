@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {

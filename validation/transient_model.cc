@@ -1,26 +1,16 @@
 #include "validation/transient_model.h"
 
-#include <map>
 #include <memory>
 #include <stdexcept>
 #include <utility>
 
-#include "core/input_fields.h"
-#include "nonlinearities/coulomb_friction.h"
-#include "nonlinearities/dlft_contact.h"
-#include "nonlinearities/lcp_contact.h"
-#include "nonlinearities/penalty_contact.h"
-#include "nonlinearities/polynomial_spring.h"
+#include "core/errors.h"
 #include "validation/contact_time_law.h"
 #include "validation/friction_time_law.h"
 #include "validation/spring_time_law.h"
 
 namespace nfrc {
 namespace {
-
-// Adds the time-domain form of one harmonic law to `out`; `path` names it in messages.
-using TimeLawFactory = void (*)(const Nonlinearity& law, const std::string& path,
-                                TransientModel* out);
 
 // Whether row `dof` of a matrix has no nonzero entry.
 bool RowIsZero(const Eigen::SparseMatrix<double>& matrix, int dof) {
@@ -32,9 +22,11 @@ bool RowIsZero(const Eigen::SparseMatrix<double>& matrix, int dof) {
   return true;
 }
 
-void AddFriction(const Nonlinearity& law, const std::string& path, TransientModel* out) {
-  const auto& friction = dynamic_cast<const CoulombFriction&>(law);
-  const int dof = friction.dof(), other = friction.other();
+// The time-domain form of each law, one overload per specification: std::visit below makes
+// the compiler require one for every law of the registry (nonlinearities/law_spec.h).
+void AddTimeLaw(const CoulombFrictionSpec& friction, const std::string& path,
+                TransientModel* out) {
+  const int dof = friction.dof, other = friction.other;
   const bool massless = out->massless[dof] || (other >= 0 && out->massless[other]);
   // Sliding pins a massless, undamped slider to the spring force ∓μN (index 2): the integrator
   // differentiates that DOF's momentum row and the law's force becomes differential. A
@@ -42,10 +34,11 @@ void AddFriction(const Nonlinearity& law, const std::string& path, TransientMode
   auto undamped_massless = [&](int d) {
     return d >= 0 && out->massless[d] && RowIsZero(out->model.damping, d);
   };
-  const bool differentiated = massless && IsExact(friction.parameters().equality) &&
+  const FrictionParameters parameters = friction.Parameters();
+  const bool differentiated = massless && IsExact(parameters.equality) &&
                               (undamped_massless(dof) || undamped_massless(other));
   try {
-    auto time_law = std::make_unique<FrictionTimeLaw>(dof, other, friction.parameters(), massless);
+    auto time_law = std::make_unique<FrictionTimeLaw>(dof, other, parameters, massless);
     time_law->set_differentiated(differentiated);
     out->laws.push_back(std::move(time_law));
   } catch (const std::invalid_argument& e) {
@@ -54,45 +47,45 @@ void AddFriction(const Nonlinearity& law, const std::string& path, TransientMode
   out->law_paths.push_back(path);
 }
 
-void AddSpring(const Nonlinearity& law, const std::string& path, TransientModel* out) {
-  const auto& spring = dynamic_cast<const PolynomialSpring&>(law);
-  out->laws.push_back(
-      std::make_unique<SpringTimeLaw>(spring.type(), spring.dof(), spring.other(), spring.terms()));
+void AddTimeLaw(const CubicSpringSpec& spring, const std::string& path, TransientModel* out) {
+  out->laws.push_back(std::make_unique<SpringTimeLaw>(
+      std::string(spring.kType), spring.dof, spring.other,
+      std::vector<PolynomialSpring::Term>{{3, spring.coefficient}}));
   out->law_paths.push_back(path);
 }
 
-void AddPenalty(const Nonlinearity& law, const std::string& path, TransientModel* out) {
-  const auto& penalty = dynamic_cast<const PenaltyContact&>(law);
-  out->laws.push_back(
-      std::make_unique<ContactTimeLaw>(penalty.type(), penalty.geometry(), penalty.stiffness()));
+void AddTimeLaw(const PolynomialSpringSpec& spring, const std::string& path,
+                TransientModel* out) {
+  out->laws.push_back(std::make_unique<SpringTimeLaw>(std::string(spring.kType), spring.dof,
+                                                      spring.other, spring.terms));
+  out->law_paths.push_back(path);
+}
+
+void AddTimeLaw(const PenaltyContactSpec& penalty, const std::string& path, TransientModel* out) {
+  out->laws.push_back(std::make_unique<ContactTimeLaw>(std::string(penalty.kType),
+                                                       penalty.geometry, penalty.stiffness));
   out->law_paths.push_back(path);
 }
 
 // dlft_contact and lcp_contact: a flexible obstacle is a penalty spring of its stiffness in the
 // time domain (the same solution set); a rigid one is a constraint for the explicit scheme.
-template <typename Law>
-void AddLagrangianContact(const Nonlinearity& law, const std::string& path, TransientModel* out) {
-  const auto& contact = dynamic_cast<const Law&>(law);
-  if (contact.obstacle_stiffness() > 0.0) {
-    out->laws.push_back(std::make_unique<ContactTimeLaw>(contact.type(), contact.geometry(),
-                                                         contact.obstacle_stiffness()));
+void AddLagrangianContact(std::string_view type, const LagrangianContactSpec& contact,
+                          const std::string& path, TransientModel* out) {
+  if (contact.obstacle_stiffness > 0.0) {
+    out->laws.push_back(std::make_unique<ContactTimeLaw>(std::string(type), contact.geometry,
+                                                         contact.obstacle_stiffness));
     out->law_paths.push_back(path);
   } else {
-    out->rigid_contacts.push_back(contact.geometry());
+    out->rigid_contacts.push_back(contact.geometry);
   }
 }
 
-// Case-file "type" → time-domain form. Adding a law with a time-domain form adds one line.
-const std::map<std::string, TimeLawFactory>& TimeLawRegistry() {
-  static const std::map<std::string, TimeLawFactory> registry = {
-      {"coulomb_friction", &AddFriction},
-      {"cubic_spring", &AddSpring},
-      {"dlft_contact", &AddLagrangianContact<DlftContact>},
-      {"lcp_contact", &AddLagrangianContact<LcpContact>},
-      {"penalty_contact", &AddPenalty},
-      {"polynomial_spring", &AddSpring},
-  };
-  return registry;
+void AddTimeLaw(const DlftContactSpec& spec, const std::string& path, TransientModel* out) {
+  AddLagrangianContact(spec.kType, spec.contact, path, out);
+}
+
+void AddTimeLaw(const LcpContactSpec& spec, const std::string& path, TransientModel* out) {
+  AddLagrangianContact(spec.kType, spec.contact, path, out);
 }
 
 // A DOF is massless when its whole row and column of M vanish; a zero diagonal with coupling
@@ -122,21 +115,15 @@ std::vector<bool> MasslessDofs(const Eigen::SparseMatrix<double>& mass) {
 
 }  // namespace
 
-TransientModel MakeTransientModel(const LinearModel& model, const std::vector<ForcingTerm>& forcing,
-                                  const std::vector<std::unique_ptr<Nonlinearity>>& laws) {
+TransientModel MakeTransientModel(const ModelDefinition& model,
+                                  const std::vector<LawSpec>& laws) {
   TransientModel out;
-  out.model = model;
-  out.forcing = forcing;
-  out.massless = MasslessDofs(model.mass);
-  const auto& registry = TimeLawRegistry();
+  out.model = model.model;
+  out.forcing = model.forcing;
+  out.massless = MasslessDofs(model.model.mass);
   for (size_t i = 0; i < laws.size(); ++i) {
     const std::string path = "nonlinearities[" + std::to_string(i) + "]";
-    const auto found = registry.find(laws[i]->type());
-    if (found == registry.end()) {
-      throw InputError(path + ".type: \"" + laws[i]->type() +
-                       "\" has no time-domain form for the transient validation");
-    }
-    found->second(*laws[i], path, &out);
+    std::visit([&](const auto& spec) { AddTimeLaw(spec, path, &out); }, laws[i]);
   }
   return out;
 }

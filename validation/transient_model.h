@@ -6,7 +6,7 @@
 
 #include "core/linear_model.h"
 #include "nonlinearities/contact_geometry.h"
-#include "nonlinearities/nonlinearity.h"
+#include "nonlinearities/law_spec.h"
 #include "validation/time_law.h"
 
 namespace nfrc {
@@ -26,11 +26,11 @@ struct TransientModel {
   int num_dofs() const { return model.num_dofs(); }
 };
 
-// Case-file "type" of a harmonic law → its time-domain law. Rigid contacts (dlft_contact or
-// lcp_contact without obstacle_stiffness) go to rigid_contacts. Throws InputError naming
-// "nonlinearities[i]" for a law with no time-domain form, and naming "model.M" for a
-// massless DOF whose mass row or column is not entirely zero.
-TransientModel MakeTransientModel(const LinearModel& model, const std::vector<ForcingTerm>& forcing,
-                                  const std::vector<std::unique_ptr<Nonlinearity>>& laws);
+// The time-domain form of every law of a case: one overload per law specification, so a
+// law without one does not compile. Rigid contacts (dlft_contact or lcp_contact without
+// obstacle_stiffness) go to rigid_contacts. Throws InputError naming "nonlinearities[i]" for
+// a bad law, and naming "model.M" for a massless DOF whose mass row or column is not
+// entirely zero.
+TransientModel MakeTransientModel(const ModelDefinition& model, const std::vector<LawSpec>& laws);
 
 }  // namespace nfrc

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "validation/contact_time_law.h"
 #include "validation/friction_time_law.h"
 

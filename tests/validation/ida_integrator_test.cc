@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "validation/transient.h"
 
 namespace nfrc {

@@ -1,6 +1,6 @@
-#include "tools/validation_settings.h"
+#include "tools/validation_reader.h"
 
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 
 namespace nfrc {
 namespace {
@@ -69,7 +69,7 @@ ChirpSettings ReadChirp(const nlohmann::json& spec) {
 
 }  // namespace
 
-ValidationSettings ValidationSettings::Read(const nlohmann::json& validation) {
+ValidationSettings ReadValidationSettings(const nlohmann::json& validation) {
   ValidationSettings s;
   if (validation.is_null()) return s;
   InputFields fields(validation, "validation");
@@ -79,9 +79,9 @@ ValidationSettings ValidationSettings::Read(const nlohmann::json& validation) {
   }
   const std::string start = fields.OptionalString("start", "hbm");
   if (start == "hbm") {
-    s.start = Start::kHbm;
+    s.start = ValidationSettings::Start::kHbm;
   } else if (start == "rest") {
-    s.start = Start::kRest;
+    s.start = ValidationSettings::Start::kRest;
   } else {
     fields.Fail("start", "expected \"hbm\" or \"rest\", got \"" + start + "\"");
   }

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,8 +35,8 @@ struct ValidationSettings {
   TransientOptions transient;
   ChirpSettings chirp;
 
-  // Throws InputError naming "validation.<field>". `validation` may be null (all defaults).
-  static ValidationSettings Read(const nlohmann::json& validation);
+  // Throws InputError naming "validation.<field>" for a bad value.
+  void Validate() const;
 };
 
 }  // namespace nfrc

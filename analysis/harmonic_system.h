@@ -8,8 +8,8 @@
 #include "continuation/problem.h"
 #include "core/condensation.h"
 #include "core/fourier_transform.h"
-#include "models/model_builder.h"
-#include "nonlinearities/nonlinearity.h"
+#include "core/linear_model.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
@@ -57,6 +57,8 @@ class HarmonicSystem : public ContinuationProblem {
 
  private:
   void MoveTo(double omega);
+  // Calls every law's Bind once the condensation exists; InputError names the law.
+  void BindLaws();
 
   LinearModel model_;
   FourierTransform fourier_;
@@ -67,6 +69,7 @@ class HarmonicSystem : public ContinuationProblem {
   int num_displacement_unknowns_ = 0;
   int num_unknowns_ = 0;
   bool has_obstacles_ = false;
+  bool bound_ = false;
   // Real condensed operator and forcing (and ω-derivatives) cached for cached_omega_.
   double cached_omega_;
   Eigen::MatrixXd z_;

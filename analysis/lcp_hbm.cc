@@ -4,7 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/lcp_contact.h"
 
 namespace nfrc {

@@ -8,13 +8,7 @@
 
 namespace nfrc {
 
-// A linear model with its external forcing, as a case file's "model" object describes it.
-struct ModelDefinition {
-  LinearModel model;
-  std::vector<ForcingTerm> forcing;
-};
-
-// Builds the "model" object of a case file by its "type" ("matrices" or "rod"). Relative file
+// Reads the "model" object of a case file by its "type" ("matrices" or "rod"). Relative file
 // paths are resolved against base_dir. Throws InputError naming the field or file for any
 // problem: unknown keys, wrong sizes, negative masses, bad files.
 ModelDefinition BuildModel(const nlohmann::json& spec, const std::string& base_dir);

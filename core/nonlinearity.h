@@ -52,6 +52,10 @@ class Nonlinearity {
   // (Condensation::SetObstacleCompliance), so the law sees relative displacements.
   virtual std::vector<double> ObstacleCompliance() const { return {}; }
 
+  // Called once by the system that owns the law, when its context is final: a law resolves
+  // here what depends only on the system (DLFT's default ε from the static stiffness).
+  virtual void Bind(const NonlinearityContext& /*ctx*/) {}
+
   // Number of own unknowns (placed at ctx.own_offset) for a harmonic set.
   virtual int NumOwnUnknowns(const HarmonicSet& /*set*/) const { return 0; }
 

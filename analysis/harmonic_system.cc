@@ -1,11 +1,11 @@
-#include "tools/harmonic_system.h"
+#include "analysis/harmonic_system.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {
@@ -90,9 +90,21 @@ HarmonicSystem::HarmonicSystem(ModelDefinition model, HarmonicSet set,
   }
 }
 
+void HarmonicSystem::BindLaws() {
+  for (size_t i = 0; i < laws_.size(); ++i) {
+    try {
+      laws_[i]->Bind(contexts_[i]);
+    } catch (const std::invalid_argument& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
+    }
+  }
+  bound_ = true;
+}
+
 void HarmonicSystem::MoveTo(double omega) {
   if (omega == cached_omega_) return;
   condensation_.Update(omega);
+  if (!bound_) BindLaws();
   z_ = condensation_.RealOperator();
   dz_ = condensation_.RealOperatorDerivative();
   f_ = condensation_.RealForcing();
@@ -124,7 +136,9 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
       return false;
     }
     return true;
-  } catch (const std::exception& error) {
+  } catch (const std::runtime_error& error) {
+    // Numerical failures only (a singular condensed operator): the step is cut and retried.
+    // Input errors and broken invariants (logic_error) propagate to the caller.
     last_error_ = error.what();
     return false;
   }
@@ -143,7 +157,7 @@ std::vector<int> HarmonicSystem::ScaleGroups() const {
 Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
   try {
     MoveTo(omega);
-  } catch (const std::exception& error) {
+  } catch (const std::runtime_error& error) {
     throw InputError(std::string("model: the linear part cannot be condensed at omega_start: ") +
                      error.what());
   }

@@ -1,7 +1,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
-#include <stdexcept>
+#include "core/errors.h"
 #include <string>
 #include <vector>
 
@@ -9,11 +9,6 @@
 
 namespace nfrc {
 
-// Bad user input: the message names the field ("nonlinearities[0].mu: ...") or the file.
-class InputError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
 
 // Strict reader of one JSON object of a case file. Every read names the field in its error
 // message; Finish() rejects keys nobody read, so a misspelt option never passes silently.

@@ -1,4 +1,4 @@
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
-#include "models/model_builder.h"
+#include "tools/model_reader.h"
 
 #include <filesystem>
 #include <map>
 
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 #include "models/damping.h"
 #include "models/matrix_market.h"
 #include "models/rod.h"

@@ -1,0 +1,203 @@
+#include "analysis/case.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/errors.h"
+
+namespace nfrc {
+namespace {
+
+// A third of the machine's 24 GiB: the rest is the OS, the outputs and a second run.
+constexpr double kMaxBytes = 8.0 * (1 << 30);
+// About ten minutes per Newton step on one core at ~2 Gflop/s: beyond it a trace is hopeless.
+constexpr double kMaxWorkPerStep = 1e12;
+// About a day of work for the points a run computes for sure (Lemke stepping).
+constexpr double kMaxTotalWork = 1e14;
+// Each signals_at crossing is a Newton solve and a file; beyond this it is not a study.
+constexpr double kMaxSignals = 1000;
+// The dense Jacobian is stored in several copies (Jacobian, LU, bordered system, scaling).
+constexpr double kDenseCopies = 4.0;
+
+std::string Bytes(double bytes) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g GB", bytes / 1e9);
+  return text;
+}
+
+std::string Count(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+}  // namespace
+
+const char* ToString(Method method) {
+  switch (method) {
+    case Method::kArclength:
+      return "arclength";
+    case Method::kLemkeStepping:
+      return "lemke_stepping";
+  }
+  return "?";
+}
+
+ProblemSize EstimateSize(const ProblemDimensions& d) {
+  const double h = std::max(1.0, d.max_harmonic);
+  const double harmonics = d.odd_only ? std::ceil(h / 2.0) : h + 1.0;
+  const double coefficients = d.odd_only ? 2.0 * harmonics : 2.0 * h + 1.0;
+  const double samples = d.samples > 0 ? d.samples : std::max(16.0, 4.0 * h + 1.0) * 2.0;
+  const double unknowns = d.num_retained * coefficients + d.own_blocks * coefficients +
+                          d.sample_blocks * samples;
+  ProblemSize size;
+  // Dense Jacobian copies, the Fourier matrices of every law (coefficients × samples), the
+  // condensation's recovery blocks (model DOFs × retained × harmonics, complex) and the
+  // samples of every law.
+  size.bytes = 8.0 * (kDenseCopies * unknowns * unknowns + 2.0 * coefficients * samples +
+                      2.0 * d.num_dofs * d.num_retained * harmonics +
+                      (d.own_blocks + d.sample_blocks + d.num_retained) * samples * 4.0);
+  // Dense LU of the Newton matrix, the laws' transforms, the sparse condensation per harmonic.
+  size.work_per_step = unknowns * unknowns * unknowns / 3.0 +
+                       2.0 * coefficients * samples * (d.num_retained + d.own_blocks) +
+                       50.0 * d.num_dofs * harmonics * d.num_retained;
+  size.total_work = d.points * size.work_per_step;
+  return size;
+}
+
+void CheckProblemSize(const ProblemDimensions& d) {
+  const ProblemSize size = EstimateSize(d);
+  // The field to blame: whichever dimension dominates the estimate.
+  const char* blame = "harmonics.max";
+  if (d.samples > 4.0 * (2.0 * d.max_harmonic + 1.0) && d.samples > 1e5) blame = "harmonics.samples";
+  if (d.num_dofs > 1e5 && d.num_dofs * d.num_retained > 100.0 * d.max_harmonic * d.max_harmonic) {
+    blame = "model";
+  }
+  if (size.bytes > kMaxBytes) {
+    throw InputError(std::string(blame) + ": the problem needs about " + Bytes(size.bytes) +
+                     " of memory, more than the " + Bytes(kMaxBytes) + " nfrc allows");
+  }
+  if (size.work_per_step > kMaxWorkPerStep) {
+    throw InputError(std::string(blame) + ": about " + Count(size.work_per_step) +
+                     " flop per Newton step (limit " + Count(kMaxWorkPerStep) +
+                     ", about ten minutes); reduce it");
+  }
+  if (size.total_work > kMaxTotalWork) {
+    throw InputError("continuation.points: " + Count(d.points) + " points need about " +
+                     Count(size.total_work) + " flop (limit " + Count(kMaxTotalWork) + ")");
+  }
+  if (d.signals > kMaxSignals) {
+    throw InputError("output.signals_at: " + Count(d.signals) + " frequencies (at most " +
+                     Count(kMaxSignals) + "; each is a solve and a file)");
+  }
+}
+
+ProblemDimensions DimensionsOf(const Case& c) {
+  ProblemDimensions d;
+  d.num_dofs = c.model.model.num_dofs();
+  std::vector<int> retained;
+  for (const LawSpec& law : c.laws) {
+    for (int dof : LawDofs(law)) {
+      if (std::find(retained.begin(), retained.end(), dof) == retained.end()) {
+        retained.push_back(dof);
+      }
+    }
+    if (std::holds_alternative<CoulombFrictionSpec>(law)) d.own_blocks += 1;
+    if (std::holds_alternative<LcpContactSpec>(law)) d.sample_blocks += 1;
+  }
+  d.num_retained = std::max<double>(1.0, static_cast<double>(retained.size()));
+  d.max_harmonic = c.harmonics.max_harmonic();
+  d.odd_only = c.harmonics.odd_only();
+  d.samples = c.harmonics.num_samples();
+  d.points = c.method == Method::kLemkeStepping ? c.stepping.points : 0;
+  d.signals = static_cast<double>(c.signals_at.size());
+  return d;
+}
+
+void Case::Validate() const {
+  try {
+    model.model.Validate();
+  } catch (const std::invalid_argument& error) {
+    throw InputError(std::string("model: ") + error.what());
+  }
+  const int n = model.model.num_dofs();
+  const auto& list = harmonics.harmonics();
+  for (size_t i = 0; i < model.forcing.size(); ++i) {
+    const ForcingTerm& term = model.forcing[i];
+    const std::string where = "model.forcing[" + std::to_string(i) + "]";
+    if (term.dof < 0 || term.dof >= n) {
+      throw InputError(where + ".dof: DOF " + std::to_string(term.dof) + " is not in the model");
+    }
+    if (std::find(list.begin(), list.end(), term.harmonic) == list.end()) {
+      throw InputError("model.forcing: harmonic " + std::to_string(term.harmonic) +
+                       " is not in the harmonic set");
+    }
+    if (!std::isfinite(term.cos) || !std::isfinite(term.sin)) {
+      throw InputError(where + ".cos: amplitudes must be finite");
+    }
+  }
+  for (size_t i = 0; i < laws.size(); ++i) {
+    try {
+      ValidateLaw(laws[i], model.model);
+    } catch (const InputError& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
+    }
+  }
+  if (output_dofs.empty()) throw InputError("output.dofs: expected a non-empty list of DOFs");
+  if (output_names.size() != output_dofs.size()) {
+    throw InputError("output.dofs: output_names must have one name per output DOF");
+  }
+  for (size_t i = 0; i < output_dofs.size(); ++i) {
+    if (output_dofs[i] < 0 || output_dofs[i] >= n) {
+      throw InputError("output.dofs[" + std::to_string(i) + "]: DOF " +
+                       std::to_string(output_dofs[i]) + " is not in the model");
+    }
+  }
+  for (double omega : signals_at) {
+    if (!(omega > 0.0) || !std::isfinite(omega)) {
+      throw InputError("output.signals_at: frequencies must be positive");
+    }
+  }
+  if (!(continuation.lambda_start > 0.0) || !std::isfinite(continuation.lambda_start)) {
+    throw InputError("continuation.omega_start: must be positive");
+  }
+  if (!(continuation.lambda_end > 0.0) || !std::isfinite(continuation.lambda_end)) {
+    throw InputError("continuation.omega_end: must be positive");
+  }
+  if (continuation.lambda_end == continuation.lambda_start) {
+    throw InputError("continuation.omega_end: must differ from omega_start");
+  }
+  try {
+    continuation.Validate();
+  } catch (const std::invalid_argument& error) {
+    throw InputError(std::string("continuation.") + error.what());
+  }
+  if (method == Method::kLemkeStepping) {
+    if (stepping.points < 2) throw InputError("continuation.points: must be at least 2");
+    for (size_t i = 0; i < laws.size(); ++i) {
+      if (!std::holds_alternative<LcpContactSpec>(laws[i])) {
+        throw InputError("nonlinearities[" + std::to_string(i) + "].type: lemke_stepping needs "
+                         "every law to be lcp_contact, got " + std::string(LawType(laws[i])));
+      }
+    }
+  }
+  validation.Validate();
+  CheckProblemSize(DimensionsOf(*this));
+}
+
+std::unique_ptr<HarmonicSystem> BuildSystem(const Case& the_case) {
+  std::vector<std::unique_ptr<Nonlinearity>> laws;
+  for (size_t i = 0; i < the_case.laws.size(); ++i) {
+    try {
+      laws.push_back(MakeHarmonicLaw(the_case.laws[i], the_case.model.model));
+    } catch (const std::invalid_argument& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
+    }
+  }
+  return std::make_unique<HarmonicSystem>(the_case.model, the_case.harmonics, std::move(laws),
+                                          the_case.output_dofs);
+}
+
+}  // namespace nfrc

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/harmonic_system.h"
+#include "analysis/validation_settings.h"
+#include "continuation/options.h"
+#include "core/harmonic_set.h"
+#include "core/linear_model.h"
+#include "nonlinearities/law_spec.h"
+
+namespace nfrc {
+
+// How a branch is computed.
+enum class Method {
+  kArclength,      // the pseudo-arclength engine (any law)
+  kLemkeStepping,  // LCP-HBM by Lemke at evenly spaced ω (every law lcp_contact)
+};
+const char* ToString(Method method);  // the case file's "arclength" / "lemke_stepping"
+
+// Natural-parameter LCP-HBM stepping (continuation.method "lemke_stepping").
+struct SteppingOptions {
+  int points = 201;  // evenly spaced ω from omega_start to omega_end, both included
+  // Warm-start Lemke from the last contact basis where the cold solve is trivial.
+  bool track_contact = true;
+};
+
+// A whole problem as typed values: the model (matrices loaded), the harmonic set, the laws
+// as specifications, and the options of every analysis. Copy it and change a field to get
+// a related problem (fewer harmonics, another ε or normal load); systems are built from it
+// as often as needed (BuildSystem). Field names in messages are the case file's.
+struct Case {
+  std::string title;
+  std::string path;  // the file it was read from; empty when built in memory
+  ModelDefinition model;
+  HarmonicSet harmonics{1, false};
+  std::vector<LawSpec> laws;
+  Method method = Method::kArclength;
+  ContinuationOptions continuation;  // lambda = ω (rad per time unit)
+  SteppingOptions stepping;
+  std::vector<int> output_dofs;           // model DOF indices whose measures are reported
+  std::vector<std::string> output_names;  // how the outputs are named (index or DOF name)
+  std::vector<double> signals_at;         // ω at which time signals are resolved
+  ValidationSettings validation;
+
+  // Cross-field checks of a case built in memory or changed after reading; throws InputError
+  // naming the case-file field ("nonlinearities[1].mu: must be non-negative").
+  void Validate() const;
+};
+
+// The sizes that decide what a problem costs, known before anything large is allocated
+// (a reader fills them from the raw numbers of a file).
+struct ProblemDimensions {
+  double num_dofs = 1;       // model DOFs
+  double num_retained = 1;   // DOFs the laws act on (kept by the condensation)
+  double max_harmonic = 1;   // H
+  bool odd_only = false;
+  double samples = 0;        // N_t (0: the default for H)
+  double own_blocks = 0;     // laws whose own unknowns are one signal (friction)
+  double sample_blocks = 0;  // laws whose own unknowns are N_t samples (LCP)
+  double points = 0;         // points computed for sure (Lemke stepping), 0 otherwise
+  double signals = 0;        // output.signals_at entries
+};
+
+// Peak memory (bytes) and work (flop per Newton step) a problem of these sizes needs.
+struct ProblemSize {
+  double bytes = 0.0;
+  double work_per_step = 0.0;
+  double total_work = 0.0;  // for the points computed for sure
+};
+ProblemSize EstimateSize(const ProblemDimensions& dimensions);
+
+// Throws InputError naming the case field that makes a problem too large for the machine
+// class nfrc runs on (24 GiB, 2 cores), with the estimate.
+void CheckProblemSize(const ProblemDimensions& dimensions);
+ProblemDimensions DimensionsOf(const Case& the_case);
+
+// The harmonic-balance system of a case (laws built from their specifications).
+std::unique_ptr<HarmonicSystem> BuildSystem(const Case& the_case);
+
+}  // namespace nfrc

@@ -1,0 +1,142 @@
+#include "nonlinearities/law_spec.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/errors.h"
+
+namespace nfrc {
+namespace {
+
+[[noreturn]] void Fail(const std::string& field, const std::string& problem) {
+  throw InputError(field + ": " + problem);
+}
+
+void CheckDofs(int dof, int other, const LinearModel& model) {
+  const int n = model.num_dofs();
+  if (dof < 0 || dof >= n) Fail("dof", "DOF " + std::to_string(dof) + " is not in the model");
+  if (other >= n) Fail("other", "DOF " + std::to_string(other) + " is not in the model");
+  if (dof == other) Fail("other", "must differ from dof");
+}
+
+void CheckGeometry(const ContactGeometry& geometry, const LinearModel& model) {
+  CheckDofs(geometry.dof, geometry.other, model);
+  if (geometry.direction != 1.0 && geometry.direction != -1.0) {
+    Fail("direction", "must be 1 (obstacle on the positive side) or -1");
+  }
+  if (!std::isfinite(geometry.gap)) Fail("gap", "must be finite");
+  for (const ContactGeometry::GapHarmonic& h : geometry.gap_harmonics) {
+    if (h.harmonic < 1) Fail("gap.harmonics", "harmonic must be at least 1 (use constant for 0)");
+    if (!std::isfinite(h.cos) || !std::isfinite(h.sin)) Fail("gap.harmonics", "must be finite");
+  }
+}
+
+void CheckLagrangian(const LagrangianContactSpec& contact, const LinearModel& model) {
+  CheckGeometry(contact.geometry, model);
+  if (!(contact.obstacle_stiffness >= 0.0) || !std::isfinite(contact.obstacle_stiffness)) {
+    Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+  }
+  if (contact.obstacle_stiffness > 0.0 && contact.geometry.other >= 0) {
+    Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
+  }
+  if (!(contact.epsilon >= 0.0) || !std::isfinite(contact.epsilon)) {
+    Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
+  }
+}
+
+}  // namespace
+
+void CubicSpringSpec::Validate(const LinearModel& model) const {
+  CheckDofs(dof, other, model);
+  if (!std::isfinite(coefficient)) Fail("coefficient", "must be finite");
+}
+
+void PolynomialSpringSpec::Validate(const LinearModel& model) const {
+  CheckDofs(dof, other, model);
+  if (terms.empty()) Fail("terms", "expected a non-empty list");
+  for (const PolynomialSpring::Term& term : terms) {
+    if (term.power < 2) Fail("terms", "power must be at least 2 (linear terms belong in K)");
+    if (!std::isfinite(term.coefficient)) Fail("terms", "coefficient must be finite");
+  }
+}
+
+FrictionParameters CoulombFrictionSpec::Parameters() const {
+  FrictionParameters parameters;
+  parameters.equality = law;
+  parameters.limit = mu * normal_load;
+  parameters.rho = rho;
+  parameters.alpha = alpha;
+  parameters.delta = delta;
+  return parameters;
+}
+
+void CoulombFrictionSpec::Validate(const LinearModel& model) const {
+  CheckDofs(dof, other, model);
+  if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
+  if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
+    Fail("normal_load", "must be non-negative");
+  }
+  auto positive = [](const char* key, double value) {
+    if (!(value > 0.0) || !std::isfinite(value)) Fail(key, "must be positive");
+  };
+  switch (law) {
+    case FrictionEquality::kMinMax:
+    case FrictionEquality::kHueber:
+      positive("rho", rho);
+      break;
+    case FrictionEquality::kTanh:
+    case FrictionEquality::kArctan:
+      positive("alpha", alpha);
+      break;
+    case FrictionEquality::kPiecewiseLinear:
+      positive("delta", delta);
+      break;
+    case FrictionEquality::kSign:
+      break;
+  }
+}
+
+void PenaltyContactSpec::Validate(const LinearModel& model) const {
+  CheckGeometry(geometry, model);
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) Fail("stiffness", "must be finite and > 0 (N/m)");
+}
+
+void DlftContactSpec::Validate(const LinearModel& model) const { CheckLagrangian(contact, model); }
+
+void LcpContactSpec::Validate(const LinearModel& model) const {
+  CheckLagrangian(contact, model);
+  if (!(smoothing >= 0.0) || !std::isfinite(smoothing)) {
+    Fail("smoothing", "must be finite and >= 0 (m; 0 = exact complementarity)");
+  }
+}
+
+std::string_view LawType(const LawSpec& spec) {
+  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kType; }, spec);
+}
+
+std::vector<int> LawDofs(const LawSpec& spec) {
+  return std::visit(
+      [](const auto& s) -> std::vector<int> {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, PenaltyContactSpec>) {
+          return s.geometry.Dofs();
+        } else if constexpr (std::is_same_v<T, DlftContactSpec> ||
+                             std::is_same_v<T, LcpContactSpec>) {
+          return s.contact.geometry.Dofs();
+        } else {
+          return s.other < 0 ? std::vector<int>{s.dof} : std::vector<int>{s.dof, s.other};
+        }
+      },
+      spec);
+}
+
+void ValidateLaw(const LawSpec& spec, const LinearModel& model) {
+  std::visit([&](const auto& s) { s.Validate(model); }, spec);
+}
+
+std::unique_ptr<Nonlinearity> MakeHarmonicLaw(const LawSpec& spec, const LinearModel& model) {
+  ValidateLaw(spec, model);
+  return std::visit([](const auto& s) { return s.MakeHarmonic(); }, spec);
+}
+
+}  // namespace nfrc

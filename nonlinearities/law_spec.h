@@ -1,0 +1,108 @@
+#pragma once
+
+#include <memory>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "core/linear_model.h"
+#include "nonlinearities/contact_geometry.h"
+#include "nonlinearities/friction_equality.h"
+#include "core/nonlinearity.h"
+#include "nonlinearities/polynomial_spring.h"
+
+namespace nfrc {
+
+// Typed, copyable specifications of the laws: what a case says about a law, as values.
+// A case holds these (never built laws), so it can be copied and changed (harmonics, ε,
+// a normal load) and systems built from it as often as needed. Each Validate() throws
+// InputError naming the field relative to the law ("mu: must be non-negative"); readers
+// prefix the law's path. Field names are the case file's.
+
+// k₃u³ on u = x_dof − x_other.
+struct CubicSpringSpec {
+  static constexpr std::string_view kType = "cubic_spring";
+  int dof = -1;
+  int other = -1;            // −1: against ground
+  double coefficient = 0.0;  // N/m³
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// Σ c_p u^p, p ≥ 2.
+struct PolynomialSpringSpec {
+  static constexpr std::string_view kType = "polynomial_spring";
+  int dof = -1;
+  int other = -1;
+  std::vector<PolynomialSpring::Term> terms;
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// Equality-based Coulomb friction (Legrand & Pierre 2024) under a constant normal load.
+struct CoulombFrictionSpec {
+  static constexpr std::string_view kType = "coulomb_friction";
+  int dof = -1;
+  int other = -1;
+  double mu = 0.0;           // friction coefficient
+  double normal_load = 0.0;  // N
+  FrictionEquality law = FrictionEquality::kMinMax;
+  double rho = 1.0;    // ρ of the exact laws (velocity / force)
+  double alpha = 0.0;  // α of tanh and arctan (1 / velocity); required by them
+  double delta = 0.0;  // δ of piecewise_linear (velocity); required by it
+  FrictionParameters Parameters() const;
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// k·max(0, −g): a flexible obstacle of stiffness k.
+struct PenaltyContactSpec {
+  static constexpr std::string_view kType = "penalty_contact";
+  ContactGeometry geometry;
+  double stiffness = 0.0;  // N/m
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// Unilateral contact by DLFT (Vadcard et al. 2022).
+struct DlftContactSpec {
+  static constexpr std::string_view kType = "dlft_contact";
+  LagrangianContactSpec contact;
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// Unilateral contact as a complementarity problem on the samples (LCP-HBM).
+struct LcpContactSpec {
+  static constexpr std::string_view kType = "lcp_contact";
+  LagrangianContactSpec contact;
+  double smoothing = 0.0;  // m, 0 = exact complementarity
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
+// The law registry: one alternative per law. Adding a law adds its spec here; its harmonic
+// law (MakeHarmonicLaw below) and its time-domain law (validation/time_law_factory.h) are
+// then required by the compiler, and the reader finds it by kType.
+using LawSpec = std::variant<CubicSpringSpec, PolynomialSpringSpec, CoulombFrictionSpec,
+                             PenaltyContactSpec, DlftContactSpec, LcpContactSpec>;
+
+// The case-file "type" of a spec (for messages and outputs).
+std::string_view LawType(const LawSpec& spec);
+
+// The model DOFs a spec acts on.
+std::vector<int> LawDofs(const LawSpec& spec);
+
+// Validate() of the alternative held.
+void ValidateLaw(const LawSpec& spec, const LinearModel& model);
+
+// The harmonic-balance law of a spec (validated first).
+std::unique_ptr<Nonlinearity> MakeHarmonicLaw(const LawSpec& spec, const LinearModel& model);
+
+}  // namespace nfrc
