@@ -175,13 +175,8 @@ void Case::Validate() const {
     throw InputError(std::string("continuation.") + error.what());
   }
   if (method == Method::kLemkeStepping) {
+    // Every law must be lcp_contact: LcpHbm checks it, naming the law.
     if (stepping.points < 2) throw InputError("continuation.points: must be at least 2");
-    for (size_t i = 0; i < laws.size(); ++i) {
-      if (!std::holds_alternative<LcpContactSpec>(laws[i])) {
-        throw InputError("nonlinearities[" + std::to_string(i) + "].type: lemke_stepping needs "
-                         "every law to be lcp_contact, got " + std::string(LawType(laws[i])));
-      }
-    }
   }
   validation.Validate();
   CheckProblemSize(DimensionsOf(*this));

@@ -1,30 +1,32 @@
-#include "tools/lcp_hbm.h"
+#include "analysis/lcp_hbm.h"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "core/errors.h"
-#include "nonlinearities/lcp_contact.h"
 
 namespace nfrc {
 
-LcpHbm::LcpHbm(HarmonicSystem& system)
+LcpHbm::LcpHbm(HarmonicSystem& system, const std::vector<LawSpec>& laws)
     : system_(system), omega_(std::numeric_limits<double>::quiet_NaN()) {
-  const auto& laws = system.laws();
+  if (laws.size() != system.laws().size()) {
+    throw std::logic_error("LcpHbm: the specifications are not the system's laws");
+  }
   for (size_t i = 0; i < laws.size(); ++i) {
-    const auto* law = dynamic_cast<const LcpContact*>(laws[i].get());
+    const auto* law = std::get_if<LcpContactSpec>(&laws[i]);
     if (law == nullptr) {
       throw InputError("nonlinearities[" + std::to_string(i) +
                        "]: LCP-HBM needs every law to be "
                        "lcp_contact, got " +
-                       laws[i]->type());
+                       std::string(LawType(laws[i])));
     }
     Contact c;
     c.law = static_cast<int>(i);
-    c.n = law->geometry().direction;
-    c.pair = law->geometry().other >= 0;
-    c.gap0 = law->geometry().GapCoefficients(system.harmonic_set());
+    c.n = law->contact.geometry.direction;
+    c.pair = law->contact.geometry.other >= 0;
+    c.gap0 = law->contact.geometry.GapCoefficients(system.harmonic_set());
+    c.contact = law->contact;
     contacts_.push_back(c);
     num_samples_ += system.harmonic_set().num_samples();
   }
@@ -88,8 +90,7 @@ Eigen::VectorXd LcpHbm::Unknowns(const Eigen::VectorXd& lambda, double omega) {
   const int nt = system_.harmonic_set().num_samples();
   for (size_t c = 0; c < contacts_.size(); ++c) {
     const int law = contacts_[c].law;
-    const auto* contact = static_cast<const LcpContact*>(system_.laws()[law].get());
-    const double epsilon = contact->EpsilonFor(system_.context(law));
+    const double epsilon = contacts_[c].contact.EpsilonFor(system_.context(law));
     y.segment(system_.context(law).own_offset, nt) =
         lambda.segment(static_cast<Eigen::Index>(c) * nt, nt) / epsilon;
   }

@@ -4,7 +4,8 @@
 #include <vector>
 
 #include "core/lemke.h"
-#include "tools/harmonic_system.h"
+#include "analysis/harmonic_system.h"
+#include "nonlinearities/law_spec.h"
 
 namespace nfrc {
 
@@ -19,7 +20,8 @@ namespace nfrc {
 class LcpHbm {
  public:
   // Throws InputError naming nonlinearities[i] if a law is not lcp_contact, or if there are none.
-  explicit LcpHbm(HarmonicSystem& system);
+  // `laws` are the specifications the system was built from (the case's laws).
+  LcpHbm(HarmonicSystem& system, const std::vector<LawSpec>& laws);
 
   struct Problem {
     Eigen::MatrixXd w;  // m/N, Σ N_t square, contacts in law order
@@ -53,6 +55,7 @@ class LcpHbm {
     double n = 1.0;  // direction
     bool pair = false;
     Eigen::VectorXd gap0;  // g̃0 coefficients
+    LagrangianContactSpec contact;
   };
   // S_c x: the coefficients of x_dof − x_other of contact c.
   Eigen::VectorXd Relative(const Contact& c, const Eigen::VectorXd& x) const;

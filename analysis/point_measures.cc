@@ -1,4 +1,4 @@
-#include "tools/point_measures.h"
+#include "analysis/point_measures.h"
 
 #include <algorithm>
 #include <cmath>

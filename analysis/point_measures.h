@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "core/fourier_transform.h"
-#include "tools/harmonic_system.h"
+#include "analysis/harmonic_system.h"
 
 namespace nfrc {
 

@@ -7,7 +7,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "continuation/fixed_lambda.h"
 #include "tools/output_files.h"
 #include "tools/version.h"
 
@@ -16,14 +15,14 @@ namespace {
 
 nlohmann::json OptionsToJson(const Case& the_case) {
   const ContinuationOptions& o = the_case.continuation;
-  if (the_case.method == "lemke_stepping") {
-    return {{"method", the_case.method},
+  if (the_case.method == Method::kLemkeStepping) {
+    return {{"method", ToString(the_case.method)},
             {"omega_start", o.lambda_start},
             {"omega_end", o.lambda_end},
             {"points", the_case.stepping.points},
             {"track_contact", the_case.stepping.track_contact}};
   }
-  return {{"method", the_case.method},
+  return {{"method", ToString(the_case.method)},
           {"omega_start", o.lambda_start},
           {"omega_end", o.lambda_end},
           {"step", o.initial_step},
@@ -40,7 +39,37 @@ nlohmann::json OptionsToJson(const Case& the_case) {
           {"line_search", o.line_search}};
 }
 
+nlohmann::json LemkeToJson(const LemkeRecord& r) {
+  return {{"status", ToString(r.status)},
+          {"pivots", r.pivots},
+          {"trivial", r.trivial},
+          {"warm_started", r.warm_started},
+          {"complementarity", r.complementarity},
+          {"feasibility", r.feasibility},
+          {"complementarity_gap", r.complementarity_gap}};
+}
+
 }  // namespace
+
+nlohmann::json MeasuresToJson(const SolutionMeasures& measures) {
+  const PointMeasures& m = measures.response;
+  nlohmann::json laws = nlohmann::json::array();
+  for (const auto& law : measures.laws) laws.push_back(law);
+  nlohmann::json entry = {{"energy", m.energy},
+                          {"max_abs", m.max_abs},
+                          {"min", m.min},
+                          {"max", m.max},
+                          {"h1", m.h1},
+                          {"amplitudes", m.amplitudes},
+                          {"laws", laws}};
+  if (measures.min_gap) entry["min_gap"] = *measures.min_gap;
+  if (measures.min_force) entry["min_force"] = *measures.min_force;
+  return entry;
+}
+
+void WriteSignalTable(const std::string& path, const SignalTable& table) {
+  WriteCsv(path, table.names, table.columns);
+}
 
 nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
   nlohmann::json history = nlohmann::json::array();
@@ -63,13 +92,8 @@ nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
           {"history", history}};
 }
 
-BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem& system,
-                           bool solve_signals)
-    : dir_(std::move(dir)),
-      case_(the_case),
-      system_(system),
-      analyzer_(system, the_case.output_dofs),
-      solve_signals_(solve_signals) {
+BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json source)
+    : dir_(std::move(dir)), case_(the_case) {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
   if (error)
@@ -86,14 +110,14 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
   document_ = {{"program", "nfrc"},
                {"version", kNfrcVersion},
                {"case_file", case_.path},
-               {"case", case_.source},
+               {"case", std::move(source)},
                {"harmonics",
                 {{"max", set.max_harmonic()},
                  {"odd_only", set.odd_only()},
                  {"samples", set.num_samples()},
                  {"list", set.harmonics()}}},
                {"output_dofs", case_.output_names},
-               {"unknowns", system_.NumUnknowns()},
+               {"unknowns", 0},
                {"options", OptionsToJson(case_)},
                {"points", nlohmann::json::array()},
                {"folds", nlohmann::json::array()},
@@ -102,50 +126,39 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, HarmonicSystem
   WriteJson();
 }
 
-nlohmann::json BranchWriter::Measure(const Eigen::VectorXd& y, double omega) {
-  const PointMeasures m = analyzer_.Measure(y, omega);
-  nlohmann::json entry = {{"energy", m.energy},
-                          {"max_abs", m.max_abs},
-                          {"min", m.min},
-                          {"max", m.max},
-                          {"h1", m.h1},
-                          {"amplitudes", m.amplitudes},
-                          {"laws", LawDiagnostics(y, omega)}};
-  AddContactExtremes(entry);
-  return entry;
+void BranchWriter::OnStart(int num_unknowns) {
+  document_["unknowns"] = num_unknowns;
+  WriteJson();
 }
 
-void BranchWriter::AnnotateLastPoint(const nlohmann::json& extra) {
-  document_["points"].back().update(extra);
-}
-
-bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
-  nlohmann::json entry = {{"index", index},
+bool BranchWriter::OnPoint(const TracePoint& record) {
+  const BranchPoint& point = record.point;
+  nlohmann::json entry = {{"index", record.index},
                           {"omega", point.lambda},
                           {"step", point.step},
                           {"newton_iterations", point.newton_iterations},
                           {"residual_norm", point.residual_norm},
                           {"tangent_omega", point.tangent_lambda}};
-  const nlohmann::json measures = Measure(point.y, point.lambda);
-  entry.update(measures);
-  const double energy = measures["energy"].get<double>();
-  const std::vector<double> max_abs = measures["max_abs"];
-  const std::vector<double> h1 = measures["h1"];
-  document_["points"].push_back(std::move(entry));
-  csv_ << index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations << ','
-       << point.residual_norm << ',' << point.tangent_lambda << ',' << energy;
-  for (double v : max_abs) csv_ << ',' << v;
-  for (double v : h1) csv_ << ',' << v;
-  csv_ << '\n' << std::flush;
-
-  for (double omega : solve_signals_ ? case_.signals_at : std::vector<double>{}) {
-    const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
-    if (const auto solved = SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
-      WriteSignals(omega, solved->y, point.lambda == omega ? index : index - 1, solved->converged,
-                   solved->message);
+  entry.update(MeasuresToJson(record.measures));
+  if (record.lemke) {
+    nlohmann::json info = LemkeToJson(*record.lemke);
+    info["coexisting_contact"] = record.coexisting_contact;
+    if (record.contact_branch) {
+      nlohmann::json contact = MeasuresToJson(record.contact_branch->measures);
+      contact["lcp"] = LemkeToJson(record.contact_branch->lemke);
+      info["contact_branch"] = std::move(contact);
     }
+    entry["lcp"] = std::move(info);
   }
-  previous_ = point;
+  document_["points"].push_back(std::move(entry));
+  const PointMeasures& m = record.measures.response;
+  csv_ << record.index << ',' << point.lambda << ',' << point.step << ','
+       << point.newton_iterations << ',' << point.residual_norm << ',' << point.tangent_lambda
+       << ',' << m.energy;
+  for (double v : m.max_abs) csv_ << ',' << v;
+  for (double v : m.h1) csv_ << ',' << v;
+  csv_ << '\n' << std::flush;
+  if (!csv_) throw std::runtime_error(dir_ + "/branch.csv: write failed");
   // Large documents are rewritten less often, so that writing stays a small share of the run.
   const auto interval =
       std::max<std::chrono::steady_clock::duration>(kJsonInterval, 10 * last_json_duration_);
@@ -153,91 +166,30 @@ bool BranchWriter::OnPoint(const BranchPoint& point, int index) {
   return true;
 }
 
-nlohmann::json BranchWriter::LawDiagnostics(const Eigen::VectorXd& y, double omega) {
-  nlohmann::json laws = nlohmann::json::array();
-  for (size_t i = 0; i < system_.laws().size(); ++i) {
-    laws.push_back(system_.laws()[i]->Diagnostics(system_.context(static_cast<int>(i)), y, omega,
-                                                  analyzer_.fine()));
-  }
-  return laws;
-}
-
-const nlohmann::json& BranchWriter::WriteSignals(double omega, const Eigen::VectorXd& y,
-                                                 int after_point, bool converged,
-                                                 const std::string& note) {
+void BranchWriter::OnSignals(const SolutionSignals& signals) {
   const int number = num_signals_++;
   const std::string name = "signals_" + std::to_string(number) + ".csv";
-  const FourierTransform& fine = analyzer_.fine();
-  std::vector<std::string> columns = {"theta", "t"};
-  std::vector<Eigen::VectorXd> data = {Angles(fine.harmonic_set().num_samples())};
-  data.push_back(data[0] / omega);
-  const Eigen::MatrixXd& d = system_.fourier().DerivativeMatrix();
-  std::vector<Eigen::VectorXd> coefficients;
-  for (size_t i = 0; i < case_.output_dofs.size(); ++i) {
-    coefficients.push_back(system_.DofCoefficients(y, omega, case_.output_dofs[i]));
-    columns.push_back("x_" + case_.output_names[i]);
-    data.push_back(fine.ToTime(coefficients.back()).col(0));
-    columns.push_back("v_" + case_.output_names[i]);
-    data.push_back(fine.ToTime(omega * (d * coefficients.back())).col(0));
-  }
-  for (size_t i = 0; i < system_.laws().size(); ++i) {
-    const auto& law = system_.laws()[i];
-    for (LawSignal& signal : law->Signals(system_.context(static_cast<int>(i)), y, omega, fine)) {
-      columns.push_back("law" + std::to_string(i) + "_" + signal.name);
-      data.push_back(std::move(signal.samples));
-    }
-  }
-  WriteCsv(dir_ + "/" + name, columns, data);
-
-  // The laws' own samples (N_t, before truncation), when they have any.
+  WriteSignalTable(dir_ + "/" + name, signals.fine);
   std::string samples_name;
-  const FourierTransform& coarse = system_.fourier();
-  std::vector<std::string> raw_columns = {"theta", "t"};
-  std::vector<Eigen::VectorXd> raw = {Angles(coarse.harmonic_set().num_samples())};
-  raw.push_back(raw[0] / omega);
-  for (size_t i = 0; i < case_.output_dofs.size(); ++i) {
-    raw_columns.push_back("x_" + case_.output_names[i]);
-    raw.push_back(coarse.ToTime(coefficients[i]).col(0));
-  }
-  const size_t num_fixed = raw.size();
-  for (size_t i = 0; i < system_.laws().size(); ++i) {
-    const auto& law = system_.laws()[i];
-    for (LawSignal& signal : law->RawSamples(system_.context(static_cast<int>(i)), y, omega)) {
-      raw_columns.push_back("law" + std::to_string(i) + "_" + signal.name);
-      raw.push_back(std::move(signal.samples));
-    }
-  }
-  if (raw.size() > num_fixed) {
+  if (!signals.samples.columns.empty()) {
     samples_name = "samples_" + std::to_string(number) + ".csv";
-    WriteCsv(dir_ + "/" + samples_name, raw_columns, raw);
+    WriteSignalTable(dir_ + "/" + samples_name, signals.samples);
   }
-
-  nlohmann::json entry = {{"omega", omega},
+  nlohmann::json entry = {{"omega", signals.omega},
                           {"file", name},
-                          {"after_point", after_point},
-                          {"converged", converged},
-                          {"note", note}};
-  entry.update(Measure(y, omega));
+                          {"after_point", signals.after_point},
+                          {"converged", signals.converged},
+                          {"note", signals.note}};
+  entry.update(MeasuresToJson(signals.measures));
   entry.erase("amplitudes");
   if (!samples_name.empty()) entry["samples_file"] = samples_name;
   document_["signals"].push_back(std::move(entry));
   WriteJson();
-  return document_["signals"].back();
 }
 
-void BranchWriter::AddContactExtremes(nlohmann::json& entry) {
-  double min_gap = INFINITY;
-  double min_force = INFINITY;
-  for (const nlohmann::json& law : entry["laws"]) {
-    if (law.contains("min_gap")) min_gap = std::min(min_gap, law["min_gap"].get<double>());
-    if (law.contains("min_force")) min_force = std::min(min_force, law["min_force"].get<double>());
-  }
-  if (std::isfinite(min_gap)) entry["min_gap"] = min_gap;
-  if (std::isfinite(min_force)) entry["min_force"] = min_force;
-}
-
-void BranchWriter::OnFold(const Fold& fold) {
-  const PointMeasures m = analyzer_.Measure(fold.y, fold.lambda);
+void BranchWriter::OnFold(const TraceFold& record) {
+  const Fold& fold = record.fold;
+  const PointMeasures& m = record.measures;
   document_["folds"].push_back({{"omega", fold.lambda},
                                 {"energy", m.energy},
                                 {"max_abs", m.max_abs},

@@ -6,12 +6,10 @@
 #include <ostream>
 #include <sstream>
 
+#include "analysis/lcp_hbm.h"
+#include "analysis/trace.h"
 #include "continuation/fixed_lambda.h"
-#include "tools/input_fields.h"
-#include "nonlinearities/dlft_contact.h"
 #include "tools/branch_writer.h"
-#include "tools/lcp_hbm.h"
-#include "tools/run_case.h"
 
 namespace nfrc {
 namespace {
@@ -19,22 +17,33 @@ namespace {
 // Records the branch and stops it at the first point at or beyond ω, solving exactly there.
 class StopAtOmega : public ContinuationObserver {
  public:
-  StopAtOmega(HarmonicSystem& system, BranchWriter& writer, const ContinuationOptions& options,
-              double omega)
-      : system_(system), writer_(writer), options_(options), omega_(omega) {}
+  StopAtOmega(HarmonicSystem& system, const Case& the_case, BranchWriter& writer,
+              const ContinuationOptions& options, double omega)
+      : system_(system),
+        reporter_(system, the_case.output_dofs, the_case.output_names),
+        writer_(writer),
+        options_(options),
+        omega_(omega) {}
 
   bool OnPoint(const BranchPoint& point, int index) override {
-    writer_.OnPoint(point, index);
+    TracePoint record;
+    record.index = index;
+    record.point = point;
+    record.measures = reporter_.Measure(point.y, point.lambda);
+    writer_.OnPoint(record);
     solution_ =
         SolveAtCrossing(system_, previous_ ? &*previous_ : nullptr, point, omega_, options_);
     previous_ = point;
     return !solution_.has_value();
   }
-  void OnFold(const Fold& fold) override { writer_.OnFold(fold); }
+  void OnFold(const Fold& fold) override {
+    writer_.OnFold(TraceFold{fold, reporter_.analyzer().Measure(fold.y, fold.lambda)});
+  }
   const std::optional<FixedLambdaSolution>& solution() const { return solution_; }
 
  private:
   HarmonicSystem& system_;
+  SolutionReporter reporter_;
   BranchWriter& writer_;
   const ContinuationOptions& options_;
   double omega_;
@@ -61,20 +70,27 @@ struct LcpReference {
 
 std::unique_ptr<LcpReference> SolveLcpReference(const Case& the_case, double omega,
                                                 const std::string& out_dir) {
-  nlohmann::json source = the_case.source;
-  for (nlohmann::json& law : source["nonlinearities"]) {
-    if (law.value("type", "") != "dlft_contact") return nullptr;
-    law["type"] = "lcp_contact";
-  }
   auto reference = std::make_unique<LcpReference>();
-  reference->twin = ParseCase(source, the_case.base_dir);
+  reference->twin = the_case;
+  for (LawSpec& law : reference->twin.laws) {
+    const auto* dlft = std::get_if<DlftContactSpec>(&law);
+    if (dlft == nullptr) return nullptr;
+    law = LcpContactSpec{dlft->contact, 0.0};
+  }
   reference->twin.signals_at.clear();
-  reference->system = MakeSystem(reference->twin);
-  LcpHbm lcp(*reference->system);
+  reference->system = BuildSystem(reference->twin);
+  LcpHbm lcp(*reference->system, reference->twin.laws);
   reference->solution = lcp.Solve(omega);
-  BranchWriter writer(out_dir + "/lcp", reference->twin, *reference->system, false);
-  reference->record = writer.WriteSignals(omega, reference->solution.y, -1,
-                                          reference->solution.lemke.ok(), "LCP-HBM (Lemke)");
+  BranchWriter writer(out_dir + "/lcp", reference->twin, nullptr);
+  writer.OnStart(reference->system->NumUnknowns());
+  SolutionReporter reporter(*reference->system, reference->twin.output_dofs,
+                            reference->twin.output_names);
+  SolutionSignals signals = reporter.Signals(reference->solution.y, omega);
+  signals.after_point = -1;
+  signals.converged = reference->solution.lemke.ok();
+  signals.note = "LCP-HBM (Lemke)";
+  writer.OnSignals(signals);
+  reference->record = writer.document()["signals"].back();
   ContinuationSummary summary;
   summary.reason = TerminationReason::kReachedLambdaBound;
   summary.message = "LCP-HBM at one frequency: Lemke " + ToString(reference->solution.lemke.status);
@@ -145,21 +161,22 @@ std::vector<double> GeometricEpsilons(double epsilon0, double factor, int steps)
   return epsilons;
 }
 
-nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
-                             const std::string& out_dir, std::ostream* progress) {
+nlohmann::json RefineEpsilon(const Case& the_case, const RefinementOptions& options,
+                             const std::string& out_dir, std::ostream* progress,
+                             const nlohmann::json& source) {
   options.Validate(the_case);
-  std::unique_ptr<HarmonicSystem> system = MakeSystem(the_case);
-  std::vector<DlftContact*> dlft;
-  for (const auto& law : system->laws()) {
-    if (auto* contact = dynamic_cast<DlftContact*>(law.get())) dlft.push_back(contact);
-  }
-  if (dlft.empty()) throw InputError("nonlinearities: refinement needs a dlft_contact law");
+  the_case.Validate();
+  bool any_dlft = false;
+  for (const LawSpec& law : the_case.laws) any_dlft |= std::holds_alternative<DlftContactSpec>(law);
+  if (!any_dlft) throw InputError("nonlinearities: refinement needs a dlft_contact law");
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
 
-  BranchWriter writer(out_dir, the_case, *system);
+  BranchWriter writer(out_dir, the_case, source);
+  writer.OnStart(system->NumUnknowns());
   ContinuationOptions trace_options = the_case.continuation;
   trace_options.progress = progress;
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, progress);
-  StopAtOmega observer(*system, writer, trace_options, options.omega);
+  StopAtOmega observer(*system, the_case, writer, trace_options, options.omega);
   const Branch branch = Trace(*system, trace_options, &observer, &guess);
   writer.Finish(branch.summary);
 
@@ -186,11 +203,22 @@ nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
           {"samples_file", "lcp/" + reference->record.value("samples_file", std::string())}};
     }
     for (double epsilon : options.epsilons) {
-      for (DlftContact* law : dlft) law->set_epsilon(epsilon);
+      // The same case with this ε on every DLFT contact; the unknowns keep their layout, so
+      // the previous solution warm-starts the solve.
+      Case refined = the_case;
+      for (LawSpec& law : refined.laws) {
+        if (auto* dlft = std::get_if<DlftContactSpec>(&law)) dlft->contact.epsilon = epsilon;
+      }
+      system = BuildSystem(refined);
       const FixedLambdaSolution solved =
           SolveAtFixedLambda(*system, y, options.omega, y, the_case.continuation);
-      const nlohmann::json& record = writer.WriteSignals(
-          options.omega, solved.y, -1, solved.converged, "epsilon=" + Format(epsilon));
+      SolutionReporter reporter(*system, the_case.output_dofs, the_case.output_names);
+      SolutionSignals signals = reporter.Signals(solved.y, options.omega);
+      signals.after_point = -1;
+      signals.converged = solved.converged;
+      signals.note = "epsilon=" + Format(epsilon);
+      writer.OnSignals(signals);
+      const nlohmann::json& record = writer.document()["signals"].back();
       nlohmann::json step = {{"epsilon", epsilon},
                              {"converged", solved.converged},
                              {"newton_iterations", solved.iterations},

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/case_file.h"
+#include "analysis/case.h"
 
 namespace nfrc {
 
@@ -34,7 +34,8 @@ std::vector<double> GeometricEpsilons(double epsilon0, double factor, int steps)
 // (max norm), the truncated force and the condensed displacements (2-norm) to it.
 // Returns refinement.json's content.
 // Throws InputError if the case has no dlft_contact law.
-nlohmann::json RefineEpsilon(Case& the_case, const RefinementOptions& options,
-                             const std::string& out_dir, std::ostream* progress);
+nlohmann::json RefineEpsilon(const Case& the_case, const RefinementOptions& options,
+                             const std::string& out_dir, std::ostream* progress,
+                             const nlohmann::json& source = nullptr);
 
 }  // namespace nfrc

@@ -29,9 +29,10 @@
 #include <vector>
 
 #include "core/condensation.h"
-#include "tools/lcp_hbm.h"
-#include "tools/run_case.h"
-#include "tools/validation_settings.h"
+#include "analysis/lcp_hbm.h"
+#include "analysis/trace.h"
+#include "tools/case_file.h"
+#include "analysis/validation_settings.h"
 #include "validation/make_integrator.h"
 
 namespace {
@@ -54,7 +55,7 @@ void BenchCase(const std::string& name, int repeats) {
   for (int r = 0; r < repeats; ++r) {
     nfrc::Case the_case = nfrc::LoadCase(path);
     const auto start = Clock::now();
-    auto system = nfrc::MakeSystem(the_case);
+    auto system = nfrc::BuildSystem(the_case);
     const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
     branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
     times.push_back(Seconds(start));
@@ -136,7 +137,7 @@ void BenchRefinedRod(int elements, int max_points) {
   constexpr double kRatio = 0.0075;
   const double beta = 2.0 * kRatio / kOmega0;
   const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json";
-  nlohmann::json source = nfrc::LoadCase(path).source;
+  nlohmann::json source = nfrc::ReadCaseFile(path).source;
   source["model"]["elements"] = elements;
   source["model"]["damping"] = {{"rayleigh", {{"stiffness", beta}}}};
   source["continuation"]["omega_start"] = 6.3e4;
@@ -148,7 +149,7 @@ void BenchRefinedRod(int elements, int max_points) {
   const double omega0 = LowestEigenfrequency(model);
 
   auto start = Clock::now();
-  auto system = nfrc::MakeSystem(the_case);
+  auto system = nfrc::BuildSystem(the_case);
   const double build_time = Seconds(start);
   start = Clock::now();
   const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
@@ -271,7 +272,7 @@ LcpPointTimes TimeLcpPoint(nfrc::LcpHbm& lcp, double omega, int repeats, int* pe
 void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_points) {
   const auto section_start = Clock::now();
   const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/lcp";
-  const nlohmann::json base = nfrc::LoadCase(dir + "/rigid_stepping_nt400.json").source;
+  const nlohmann::json base = nfrc::ReadCaseFile(dir + "/rigid_stepping_nt400.json").source;
   constexpr double kOmegas[] = {63953.9, 6.45e4};  // rad/s, both in contact
   constexpr double kSweepStart = 6.2e4;            // rad/s
   constexpr double kSweepEnd = 6.6e4;              // rad/s
@@ -285,8 +286,8 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
     nlohmann::json source = base;
     source["harmonics"]["samples"] = nt;
     nfrc::Case the_case = nfrc::ParseCase(source, dir);
-    auto system = nfrc::MakeSystem(the_case);
-    nfrc::LcpHbm lcp(*system);
+    auto system = nfrc::BuildSystem(the_case);
+    nfrc::LcpHbm lcp(*system, the_case.laws);
     int perturbation = 0;
     lcp.Solve(kSweepStart);  // first point: allocations, not timed
     for (double omega : kOmegas) {
@@ -316,9 +317,8 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
 
 void BenchTransient(const std::string& name, double omega, int repeats) {
   nfrc::Case the_case = nfrc::LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
-  const nfrc::ValidationSettings settings = nfrc::ValidationSettings::Read(the_case.validation);
-  nfrc::TransientModel model =
-      nfrc::MakeTransientModel(the_case.model.model, the_case.model.forcing, the_case.laws);
+  const nfrc::ValidationSettings& settings = the_case.validation;
+  nfrc::TransientModel model = nfrc::MakeTransientModel(the_case.model, the_case.laws);
   const std::unique_ptr<nfrc::TransientIntegrator> integrator =
       nfrc::MakeTransientIntegrator(model, settings.transient);
   nfrc::InitialState rest;

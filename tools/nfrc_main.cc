@@ -10,7 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "tools/input_fields.h"
+#include "core/errors.h"
+#include "tools/case_file.h"
 #include "tools/epsilon_refinement.h"
 #include "tools/run_case.h"
 #include "tools/validate.h"
@@ -63,10 +64,11 @@ int Run(const std::vector<std::string>& args) {
     std::cerr << "nfrc run: needs a case file and --out DIR\n" << kUsage;
     return kExitUsage;
   }
-  nfrc::Case the_case = nfrc::LoadCase(case_path);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  const nfrc::Branch branch = nfrc::RunCase(the_case, out_dir, &std::cerr, &g_stop);
+  const nfrc::Branch branch =
+      nfrc::RunCase(file.the_case, out_dir, &std::cerr, &g_stop, file.source);
   const auto& summary = branch.summary;
   std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
             << "nfrc: " << summary.num_points << " points, " << summary.num_folds
@@ -126,17 +128,17 @@ int Refine(const std::vector<std::string>& args) {
     std::cerr << "nfrc refine: needs a case file, --omega and --out DIR\n" << kUsage;
     return kExitUsage;
   }
-  nfrc::Case the_case = nfrc::LoadCase(case_path);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
+  const nfrc::Case& the_case = file.the_case;
   nfrc::RefinementOptions options;
   options.omega = *omega;
   if (!list.empty()) {
     options.epsilons = list;
   } else {
     if (!epsilon0) {
-      for (const nlohmann::json& law : the_case.source["nonlinearities"]) {
-        if (law.value("type", "") == "dlft_contact" && law.contains("epsilon")) {
-          epsilon0 = law["epsilon"].get<double>();
-        }
+      for (const nfrc::LawSpec& law : the_case.laws) {
+        const auto* dlft = std::get_if<nfrc::DlftContactSpec>(&law);
+        if (dlft != nullptr && dlft->contact.epsilon > 0.0) epsilon0 = dlft->contact.epsilon;
       }
     }
     if (!epsilon0) {
@@ -145,7 +147,8 @@ int Refine(const std::vector<std::string>& args) {
     }
     options.epsilons = nfrc::GeometricEpsilons(*epsilon0, factor, steps);
   }
-  const nlohmann::json result = nfrc::RefineEpsilon(the_case, options, out_dir, &std::cerr);
+  const nlohmann::json result =
+      nfrc::RefineEpsilon(the_case, options, out_dir, &std::cerr, file.source);
   const auto& done = result["steps"];
   const bool complete = done.size() == options.epsilons.size() &&
                         (done.empty() || done.back()["converged"].get<bool>());
@@ -211,8 +214,9 @@ int Validate(const std::vector<std::string>& args) {
     std::cerr << "nfrc validate: needs a case file and --out DIR\n" << kUsage;
     return kExitUsage;
   }
-  nfrc::Case the_case = nfrc::LoadCase(case_path);
-  nfrc::ValidationSettings settings = nfrc::ValidationSettings::Read(the_case.validation);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
+  const nfrc::Case& the_case = file.the_case;
+  nfrc::ValidationSettings settings = the_case.validation;
   if (!omegas.empty()) settings.omegas = omegas;
   if (start == "rest") {
     settings.start = nfrc::ValidationSettings::Start::kRest;
@@ -230,7 +234,7 @@ int Validate(const std::vector<std::string>& args) {
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   const nlohmann::json document =
-      nfrc::RunValidation(the_case, settings, out_dir, &std::cerr, &std::cout, &g_stop);
+      nfrc::RunValidation(the_case, settings, out_dir, &std::cerr, &std::cout, &g_stop, file.source);
   std::cerr << "nfrc: wrote " << out_dir << "/validation.json\n";
   int status = nfrc::ValidationComplete(document) && !g_stop.load() ? kExitOk : kExitRunIncomplete;
   if (plot && RunPythonScript("plot_validation.py", {out_dir}) != 0) {

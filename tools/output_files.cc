@@ -33,10 +33,5 @@ void WriteJsonAtomically(const std::string& path, const nlohmann::json& document
   std::filesystem::rename(temporary, path);
 }
 
-Eigen::VectorXd Angles(int num_samples) {
-  Eigen::VectorXd theta(num_samples);
-  for (int j = 0; j < num_samples; ++j) theta(j) = 2.0 * std::numbers::pi * j / num_samples;
-  return theta;
-}
 
 }  // namespace nfrc

@@ -16,7 +16,4 @@ void WriteCsv(const std::string& path, const std::vector<std::string>& columns,
 // part-way) never sees a half-written file.
 void WriteJsonAtomically(const std::string& path, const nlohmann::json& document);
 
-// θ_j = 2πj/N, j = 0..N−1: the sample angles of one period.
-Eigen::VectorXd Angles(int num_samples);
-
 }  // namespace nfrc

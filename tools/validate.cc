@@ -12,7 +12,8 @@
 #include "continuation/fixed_lambda.h"
 #include "nonlinearities/phase_count.h"
 #include "tools/output_files.h"
-#include "tools/point_measures.h"
+#include "analysis/point_measures.h"
+#include "analysis/solution_report.h"
 #include "tools/run_case.h"
 #include "validation/make_integrator.h"
 #include "validation/period_measures.h"
@@ -288,12 +289,12 @@ nlohmann::json RunChirps(const Case& the_case, const ChirpSettings& chirp,
 
 nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& settings,
                              const std::string& out_dir, std::ostream* progress,
-                             std::ostream* table, const std::atomic<bool>* stop) {
+                             std::ostream* table, const std::atomic<bool>* stop,
+                             const nlohmann::json& source) {
   std::filesystem::create_directories(out_dir);
-  // Three parses of one case: the time-domain laws, the traced branch, the crossing solves.
-  Case transient_case = ParseCase(the_case.source, the_case.base_dir);
-  TransientModel transient_model = MakeTransientModel(
-      transient_case.model.model, transient_case.model.forcing, transient_case.laws);
+  the_case.Validate();
+  // One case, three uses: the time-domain laws, the traced branch, the crossing solves.
+  TransientModel transient_model = MakeTransientModel(the_case.model, the_case.laws);
   const std::unique_ptr<TransientIntegrator> integrator =
       MakeTransientIntegrator(transient_model, settings.transient);
   const int n = settings.transient.samples_per_period;
@@ -304,17 +305,15 @@ nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& set
                      std::to_string(2 * the_case.harmonics.max_harmonic() + 1) + ")");
   }
 
-  Case branch_case = ParseCase(the_case.source, the_case.base_dir);
-  if (branch_case.method != "arclength") {
+  if (the_case.method != Method::kArclength) {
     throw InputError(
         "continuation.method: validate needs the arclength branch (Newton "
         "solves at each omega), not \"" +
-        branch_case.method + "\"");
+        std::string(ToString(the_case.method)) + "\"");
   }
-  const Branch branch = RunCase(branch_case, out_dir + "/hbm", progress, stop);
+  const Branch branch = RunCase(the_case, out_dir + "/hbm", progress, stop, source);
 
-  Case system_case = ParseCase(the_case.source, the_case.base_dir);
-  std::unique_ptr<HarmonicSystem> system = MakeSystem(system_case);
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
   PointAnalyzer analyzer(*system, the_case.output_dofs);
 
   nlohmann::json document = {
@@ -347,7 +346,7 @@ nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& set
   for (double omega : settings.omegas) {
     if (stop != nullptr && stop->load()) break;
     std::vector<HbmSolution> solutions =
-        SolveCrossings(*system, branch, omega, system_case.continuation, analyzer);
+        SolveCrossings(*system, branch, omega, the_case.continuation, analyzer);
     nlohmann::json entry = {{"omega", omega},
                             {"hbm_solutions", nlohmann::json::array()},
                             {"transients", nlohmann::json::array()}};

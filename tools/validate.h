@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "tools/case_file.h"
-#include "tools/validation_settings.h"
+#include "analysis/case.h"
+#include "analysis/validation_settings.h"
 
 namespace nfrc {
 
@@ -21,7 +21,8 @@ namespace nfrc {
 // `progress`. Returns the document; throws InputError for bad input.
 nlohmann::json RunValidation(const Case& the_case, const ValidationSettings& settings,
                              const std::string& out_dir, std::ostream* progress,
-                             std::ostream* table, const std::atomic<bool>* stop = nullptr);
+                             std::ostream* table, const std::atomic<bool>* stop = nullptr,
+                             const nlohmann::json& source = nullptr);
 
 // True if every transient and chirp of the document ran (periodic or not) and every ω had an
 // HBM solution: what `nfrc validate` turns into its exit status.

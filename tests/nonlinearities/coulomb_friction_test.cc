@@ -5,9 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/jacobian_check.h"
-#include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
@@ -111,32 +110,6 @@ TEST_CASE("the exact laws' zero set is Coulomb's law, sliding force r = -muN sig
     CHECK(EvaluateFrictionEquality(p, 0.1, 0.7).value != doctest::Approx(0.0));   // not stuck
     CHECK(EvaluateFrictionEquality(p, 0.0, 2.5).value != doctest::Approx(0.0));   // |r| > μN
   }
-}
-
-TEST_CASE("case-file errors name the field") {
-  LinearModel model;
-  model.mass = Eigen::MatrixXd::Identity(2, 2).sparseView();
-  model.stiffness = model.mass;
-  model.damping = model.mass;
-  auto error = [&](const char* text) {
-    try {
-      MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", model);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": -1, "normal_load": 1})") ==
-        "nonlinearities[0].mu: must be non-negative");
-  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1})") ==
-        "nonlinearities[0].normal_load: missing (required)");
-  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
-                  "law": "tanh"})") == "nonlinearities[0].alpha: required by law \"tanh\"");
-  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
-                  "law": "stribeck"})")
-            .find("nonlinearities[0].law: unknown friction law") == 0);
-  CHECK(error(R"({"type": "coulomb_friction", "dof": 1, "mu": 1, "normal_load": 1,
-                  "delta": 1})") == "nonlinearities[0].delta: does not apply to law \"min_max\"");
 }
 
 }  // namespace

@@ -8,16 +8,14 @@
 #include <utility>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/jacobian_check.h"
 #include "nonlinearities/law_test_support.h"
-#include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
 
-using testing::LawInputError;
-using testing::NamesField;
+
 using testing::TwoDofModel;
 
 // Away from switching samples DLFT is linear in y on each sample (the mask is frozen), so
@@ -115,83 +113,6 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
   }
 }
 
-// ---------------------------------------------------------------------------------------
-// Case-file errors.
-
-TEST_CASE("DLFT contact: case-file errors name the field") {
-  // Valid forms, so each error below is due to the one field changed.
-  const LinearModel model = TwoDofModel();
-  auto law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "dlft_contact", "dof": "b",
-      "gap": 0.1, "obstacle_stiffness": 50, "epsilon": 20})"),
-                              "nonlinearities[0]", model);
-  CHECK(law->type() == "dlft_contact");
-  CHECK(law->Dofs() == std::vector<int>{1});
-  CHECK(law->ObstacleCompliance() == std::vector<double>{1.0 / 50});
-  const auto& dlft = dynamic_cast<const DlftContact&>(*law);
-  CHECK(dlft.epsilon() == 20.0);
-  CHECK(dlft.obstacle_stiffness() == 50.0);
-  law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "dlft_contact", "dof": 0, "other": 1,
-      "direction": -1, "gap": {"constant": 0.1, "harmonics": [{"harmonic": 3, "sin": 0.01}]}})"),
-                         "nonlinearities[0]", model);
-  CHECK(law->Dofs() == std::vector<int>{0, 1});
-  CHECK(law->ObstacleCompliance().empty());                        // rigid
-  CHECK(dynamic_cast<const DlftContact&>(*law).epsilon() == 0.0);  // default, unresolved
-
-  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "other": 1, "gap": 0.1,
-                    "obstacle_stiffness": 50})")
-            .find("nonlinearities[0].obstacle_stiffness: not allowed with other") == 0);
-  CHECK(NamesField(
-      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": 0})"),
-      "obstacle_stiffness"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "obstacle_stiffness": -1})"),
-      "obstacle_stiffness"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": 0})"),
-                   "epsilon"));
-  CHECK(
-      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": -3})"),
-                 "epsilon"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "epsilon": "big"})"),
-      "epsilon"));
-  CHECK(
-      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 0})"),
-                 "direction"));
-  CHECK(
-      NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "direction": 2})"),
-                 "direction"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0,
-                          "gap": {"harmonics": [{"harmonic": 0, "cos": 0.1}]}})"),
-                   "gap.harmonics[0].harmonic"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0,
-                          "gap": {"harmonics": [{"cos": 0.1}]}})"),
-                   "gap.harmonics[0].harmonic"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": {"harmonics": 1}})"),
-                   "gap.harmonics"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": [0.1]})"), "gap"));
-  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0})") ==
-        "nonlinearities[0].gap: missing (required)");
-  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "stiffness": 100})") ==
-        "nonlinearities[0].stiffness: unknown key");
-  CHECK(LawInputError(R"({"type": "dlft_contact", "dof": 0, "gap": 0.1, "eps": 100})") ==
-        "nonlinearities[0].eps: unknown key");
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": 0, "other": 0, "gap": 0.1})"),
-                   "other"));
-  CHECK(NamesField(LawInputError(R"({"type": "dlft_contact", "dof": "z", "gap": 0.1})"), "dof"));
-  // Constructor checks for programmatic use.
-  ContactGeometry pair;
-  pair.dof = 0;
-  pair.other = 1;
-  CHECK_THROWS_AS(DlftContact(pair, 10.0, 0.0), std::invalid_argument);
-  ContactGeometry grounded;
-  grounded.dof = 0;
-  CHECK_THROWS_AS(DlftContact(grounded, -1.0, 0.0), std::invalid_argument);
-  CHECK_THROWS_AS(DlftContact(grounded, 0.0, -1.0), std::invalid_argument);
-  DlftContact refinable(grounded, 0.0, 5.0);
-  CHECK_THROWS_AS(refinable.set_epsilon(0.0), std::invalid_argument);
-  refinable.set_epsilon(40.0);
-  CHECK(refinable.epsilon() == 40.0);
-}
 
 // ---------------------------------------------------------------------------------------
 // Solutions at fixed ω of NLvib's two-DOF oscillator against a rigid obstacle.

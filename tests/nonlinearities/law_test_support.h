@@ -2,12 +2,10 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
-#include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/input_fields.h"
 #include "core/linear_model.h"
-#include "nonlinearities/registry.h"
+#include "core/errors.h"
 
 namespace nfrc::testing {
 
@@ -36,22 +34,6 @@ inline LinearModel ChainModel() {
   model.mass = (0.5 * Eigen::MatrixXd::Identity(n, n)).sparseView();
   model.damping = (2e-6 * k).sparseView();
   return model;
-}
-
-// The InputError message of MakeNonlinearity for the JSON `text` on TwoDofModel, or
-// "no error".
-inline std::string LawInputError(const std::string& text) {
-  try {
-    MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", TwoDofModel());
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
-}
-
-// True if `message` starts by naming `field` of the law ("nonlinearities[0].<field>: ").
-inline bool NamesField(const std::string& message, const std::string& field) {
-  return message.rfind("nonlinearities[0]." + field + ": ", 0) == 0;
 }
 
 }  // namespace nfrc::testing

@@ -8,15 +8,14 @@
 #include <utility>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/jacobian_check.h"
 #include "nonlinearities/law_test_support.h"
 
 namespace nfrc {
 namespace {
 
-using testing::LawInputError;
-using testing::NamesField;
+
 
 // Away from ties of the min the law is linear in y on each sample, so central differences
 // are exact up to round-off: 1e-7 relative step, 1e-6 tolerance.
@@ -151,26 +150,6 @@ TEST_CASE("LCP contact: continuation needs square Fourier matrices and the full 
     CHECK(std::string(error.what()).rfind("harmonics.samples: ", 0) == 0);
   }
   CHECK_THROWS_AS(law.CheckForContinuation(HarmonicSet(5, true, 11)), std::invalid_argument);
-}
-
-TEST_CASE("LCP contact: case-file errors name the field") {
-  CHECK(LawInputError(R"({"type": "lcp_contact", "dof": "a", "gap": 1e-3})") == "no error");
-  CHECK(LawInputError(R"({"type": "lcp_contact", "dof": "a", "gap": 1e-3,
-                          "obstacle_stiffness": 4e9, "epsilon": 1e9})") == "no error");
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "gap": 1e-3})"), "dof"));
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "dof": "a"})"), "gap"));
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "dof": "a", "gap": 1e-3,
-                                     "epsilon": -1})"),
-                   "epsilon"));
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "dof": "a", "gap": 1e-3,
-                                     "obstacle_stiffness": 0})"),
-                   "obstacle_stiffness"));
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "dof": "a", "other": "b",
-                                     "gap": 1e-3, "obstacle_stiffness": 1e9})"),
-                   "obstacle_stiffness"));
-  CHECK(NamesField(LawInputError(R"({"type": "lcp_contact", "dof": "a", "gap": 1e-3,
-                                     "stiffness": 1e9})"),
-                   "stiffness"));
 }
 
 }  // namespace

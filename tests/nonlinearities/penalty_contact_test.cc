@@ -9,16 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/jacobian_check.h"
 #include "nonlinearities/law_test_support.h"
-#include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
 
-using testing::LawInputError;
-using testing::NamesField;
+
 using testing::TwoDofModel;
 
 constexpr double kPi = std::numbers::pi;
@@ -256,73 +254,6 @@ TEST_CASE("penalty contact: the gap's harmonics must be in the set") {
                                     odd_residual, nullptr, nullptr),
                   std::invalid_argument);
   CHECK_THROWS_AS(PenaltyContact(geometry, 0.0), std::invalid_argument);
-}
-
-TEST_CASE("penalty contact: case-file errors name the field") {
-  const LinearModel model = TwoDofModel();
-  // Valid forms first, so the errors below are due to the one field changed.
-  auto law = MakeNonlinearity(
-      nlohmann::json::parse(
-          R"({"type": "penalty_contact", "dof": "b", "gap": 1, "stiffness": 100})"),
-      "nonlinearities[0]", model);
-  CHECK(law->type() == "penalty_contact");
-  CHECK(law->Dofs() == std::vector<int>{1});
-  CHECK(law->ObstacleCompliance().empty());
-  law = MakeNonlinearity(nlohmann::json::parse(R"({"type": "penalty_contact", "dof": 0, "other": 1,
-      "direction": -1, "gap": {"constant": 0.5, "harmonics": [{"harmonic": 2, "cos": 0.1}]},
-      "stiffness": 100})"),
-                         "nonlinearities[0]", model);
-  CHECK(law->Dofs() == std::vector<int>{0, 1});
-
-  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1})") ==
-        "nonlinearities[0].stiffness: missing (required)");
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 0})"),
-      "stiffness"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": -5})"),
-      "stiffness"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": "hard"})"),
-      "stiffness"));
-  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100})") ==
-        "nonlinearities[0].gap: missing (required)");
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": "1", "stiffness": 100})"),
-      "gap"));
-  CHECK(
-      NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
-                          "direction": 0.5})"),
-                 "direction"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": 2, "gap": 1, "stiffness": 100})"),
-      "dof"));
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contact", "dof": "c", "gap": 1, "stiffness": 100})"),
-      "dof"));
-  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "gap": 1, "stiffness": 100})"),
-                   "dof"));
-  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "other": "a", "gap": 1,
-                          "stiffness": 100})"),
-                   "other"));
-  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stifness": 100,
-                    "stiffness": 100})") == "nonlinearities[0].stifness: unknown key");
-  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
-                          "gap": {"constant": 1, "harmonics": [{"harmonic": 0, "cos": 1}]}})"),
-                   "gap.harmonics[0].harmonic"));
-  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
-                          "gap": {"constant": 1, "harmonics": [{"harmonic": 1, "cosine": 1}]}})"),
-                   "gap.harmonics[0].cosine"));
-  CHECK(NamesField(LawInputError(R"({"type": "penalty_contact", "dof": 0, "stiffness": 100,
-                          "gap": {"constant": 1, "offset": 2}})"),
-                   "gap.offset"));
-  // obstacle_stiffness belongs to DLFT: the penalty law is itself the flexible obstacle.
-  CHECK(LawInputError(R"({"type": "penalty_contact", "dof": 0, "gap": 1, "stiffness": 100,
-                    "obstacle_stiffness": 100})") ==
-        "nonlinearities[0].obstacle_stiffness: unknown key");
-  CHECK(NamesField(
-      LawInputError(R"({"type": "penalty_contacts", "dof": 0, "gap": 1, "stiffness": 100})"),
-      "type"));
 }
 
 }  // namespace

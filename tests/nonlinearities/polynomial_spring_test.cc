@@ -4,10 +4,9 @@
 
 #include <cmath>
 
-#include "core/input_fields.h"
+#include "core/errors.h"
 #include "nonlinearities/jacobian_check.h"
 #include "nonlinearities/law_test_support.h"
-#include "nonlinearities/registry.h"
 
 namespace nfrc {
 namespace {
@@ -74,38 +73,6 @@ TEST_CASE("spring between two DOFs acts equal and opposite") {
   spring.Evaluate(Context(fourier, {0, 1}), y, 1.0, r, nullptr, nullptr);
   CHECK((r.head(nc) + r.tail(nc)).norm() < 1e-14 * r.norm());
   CHECK(r.norm() > 0.0);
-}
-
-TEST_CASE("registry builds springs from case-file objects and names bad fields") {
-  const LinearModel model = TwoDofModel();
-  auto law = MakeNonlinearity(
-      nlohmann::json::parse(R"({"type": "cubic_spring", "dof": "b", "coefficient": 2})"),
-      "nonlinearities[0]", model);
-  CHECK(law->type() == "cubic_spring");
-  CHECK(law->Dofs() == std::vector<int>{1});
-
-  auto message = [&](const char* text) {
-    try {
-      MakeNonlinearity(nlohmann::json::parse(text), "nonlinearities[0]", model);
-    } catch (const InputError& error) {
-      return std::string(error.what());
-    }
-    return std::string("no error");
-  };
-  CHECK(message(R"({"type": "quartic", "dof": 0})").find("nonlinearities[0].type: unknown") == 0);
-  CHECK(message(R"({"type": "cubic_spring", "dof": 0})") ==
-        "nonlinearities[0].coefficient: missing (required)");
-  CHECK(message(R"({"type": "cubic_spring", "dof": 5, "coefficient": 1})")
-            .find("nonlinearities[0].dof: DOF 5 out of range") == 0);
-  CHECK(message(R"({"type": "cubic_spring", "dof": 0, "coefficient": 1, "coef": 2})") ==
-        "nonlinearities[0].coef: unknown key");
-  CHECK(message(R"({"type": "cubic_spring", "dof": 0, "coefficient": "big"})") ==
-        "nonlinearities[0].coefficient: expected a number, got \"big\"");
-  CHECK(message(R"({"type": "polynomial_spring", "dof": 0, "terms": [{"power": 1,
-        "coefficient": 1}]})")
-            .find("nonlinearities[0].terms[0].power: must be at least 2") == 0);
-  CHECK(message(R"({"type": "cubic_spring", "dof": 0, "other": "a", "coefficient": 1})") ==
-        "nonlinearities[0].other: must differ from dof");
 }
 
 }  // namespace

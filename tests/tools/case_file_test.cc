@@ -2,7 +2,7 @@
 
 #include <doctest/doctest.h>
 
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 
 namespace nfrc {
 namespace {

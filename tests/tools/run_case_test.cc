@@ -2,6 +2,9 @@
 
 #include <doctest/doctest.h>
 
+#include "tools/case_file.h"
+#include "tools/validation_reader.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>

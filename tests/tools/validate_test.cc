@@ -2,10 +2,13 @@
 
 #include <doctest/doctest.h>
 
+#include "tools/case_file.h"
+#include "tools/validation_reader.h"
+
 #include <filesystem>
 #include <fstream>
 
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 
 namespace nfrc {
 namespace {
@@ -60,7 +63,7 @@ TEST_CASE("validate: Duffing transients match the HBM branch and the middle solu
 TEST_CASE("validate: settings name the bad field") {
   auto message = [](const std::string& text) {
     try {
-      ValidationSettings::Read(nlohmann::json::parse(text));
+      ReadValidationSettings(nlohmann::json::parse(text));
     } catch (const InputError& e) {
       return std::string(e.what());
     }

@@ -5,8 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/input_fields.h"
-#include "nonlinearities/registry.h"
+#include "core/errors.h"
 #include "validation/friction_time_law.h"
 #include "validation/period_measures.h"
 
@@ -24,28 +23,36 @@ LinearModel TwoDof(double m2) {
   return model;
 }
 
-std::vector<std::unique_ptr<Nonlinearity>> Laws(const LinearModel& model,
-                                                const std::vector<std::string>& specs) {
-  std::vector<std::unique_ptr<Nonlinearity>> laws;
-  for (size_t i = 0; i < specs.size(); ++i) {
-    laws.push_back(MakeNonlinearity(nlohmann::json::parse(specs[i]),
-                                    "nonlinearities[" + std::to_string(i) + "]", model));
-  }
-  return laws;
+TransientModel Make(const LinearModel& model, const std::vector<LawSpec>& laws) {
+  return MakeTransientModel(ModelDefinition{model, {}}, laws);
+}
+
+ContactGeometry Gap(int dof, double gap) {
+  ContactGeometry geometry;
+  geometry.dof = dof;
+  geometry.gap = gap;
+  return geometry;
+}
+
+CoulombFrictionSpec Friction(int dof, double mu, double normal_load) {
+  CoulombFrictionSpec spec;
+  spec.dof = dof;
+  spec.mu = mu;
+  spec.normal_load = normal_load;
+  return spec;
 }
 
 TEST_CASE("Transient model: every harmonic law maps to its time-domain form") {
   const LinearModel model = TwoDof(1.0);
-  const auto laws =
-      Laws(model, {R"({"type": "coulomb_friction", "dof": 1, "mu": 0.9, "normal_load": 10})",
-                   R"({"type": "cubic_spring", "dof": 0, "coefficient": 0.5})",
-                   R"({"type": "polynomial_spring", "dof": 0, "other": 1,
-          "terms": [{"power": 2, "coefficient": 1}]})",
-                   R"({"type": "penalty_contact", "dof": 0, "gap": 0.1, "stiffness": 100})",
-                   R"({"type": "dlft_contact", "dof": 1, "gap": 0.1, "obstacle_stiffness": 100})",
-                   R"({"type": "dlft_contact", "dof": 0, "gap": 0.2})",
-                   R"({"type": "lcp_contact", "dof": 1, "gap": 0.3})"});
-  const TransientModel t = MakeTransientModel(model, {}, laws);
+  const std::vector<LawSpec> laws = {
+      Friction(1, 0.9, 10),
+      CubicSpringSpec{0, -1, 0.5},
+      PolynomialSpringSpec{0, 1, {{2, 1.0}}},
+      PenaltyContactSpec{Gap(0, 0.1), 100},
+      DlftContactSpec{{Gap(1, 0.1), 100, 0}},
+      DlftContactSpec{{Gap(0, 0.2), 0, 0}},
+      LcpContactSpec{{Gap(1, 0.3), 0, 0}, 0}};
+  const TransientModel t = Make(model, laws);
   REQUIRE(t.laws.size() == 5);
   CHECK(t.laws[0]->type() == "coulomb_friction");
   CHECK(t.laws[1]->type() == "cubic_spring");
@@ -61,13 +68,12 @@ TEST_CASE("Transient model: every harmonic law maps to its time-domain form") {
 
 TEST_CASE("Transient model: massless DOFs and refused inputs name the field") {
   const LinearModel massless = TwoDof(0.0);
-  const auto spring = Laws(massless, {R"({"type": "cubic_spring", "dof": 1, "coefficient": 1})"});
-  CHECK(MakeTransientModel(massless, {}, spring).massless == std::vector<bool>{false, true});
-  const auto friction = Laws(massless, {R"({"type": "coulomb_friction", "dof": 1, "mu": 0.9,
-                                            "normal_load": 6.5})"});
+  const std::vector<LawSpec> spring = {CubicSpringSpec{1, -1, 1}};
+  CHECK(Make(massless, spring).massless == std::vector<bool>{false, true});
+  const std::vector<LawSpec> friction = {Friction(1, 0.9, 6.5)};
   // Exact friction on a massless DOF: accepted. A damped one keeps the index-1 form; an
   // undamped one gets its momentum row differentiated by the integrator (index 2 in slip).
-  const TransientModel damped = MakeTransientModel(massless, {}, friction);
+  const TransientModel damped = Make(massless, friction);
   CHECK(damped.massless == std::vector<bool>{false, true});
   REQUIRE(damped.laws.size() == 1);
   CHECK_FALSE(dynamic_cast<const FrictionTimeLaw&>(*damped.laws[0]).differentiated());
@@ -75,7 +81,7 @@ TEST_CASE("Transient model: massless DOFs and refused inputs name the field") {
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(2, 2);
   c(0, 0) = 0.02;
   undamped.damping = c.sparseView();
-  const TransientModel reduced = MakeTransientModel(undamped, {}, friction);
+  const TransientModel reduced = Make(undamped, friction);
   CHECK(reduced.massless == std::vector<bool>{false, true});
   REQUIRE(reduced.laws.size() == 1);
   CHECK(dynamic_cast<const FrictionTimeLaw&>(*reduced.laws[0]).differentiated());
@@ -85,13 +91,14 @@ TEST_CASE("Transient model: massless DOFs and refused inputs name the field") {
   Eigen::MatrixXd m(2, 2);
   m << 1, 0.1, 0.1, 0;
   coupled.mass = m.sparseView();
-  CHECK_THROWS_WITH_AS(MakeTransientModel(coupled, {}, {}), doctest::Contains("model.M"),
+  CHECK_THROWS_WITH_AS(Make(coupled, {}), doctest::Contains("model.M"),
                        InputError);
 
   const LinearModel massed = TwoDof(1.0);
-  const auto sign = Laws(massed, {R"({"type": "coulomb_friction", "dof": 1, "mu": 0.9,
-                                      "normal_load": 6.5, "law": "sign"})"});
-  CHECK_THROWS_WITH_AS(MakeTransientModel(massed, {}, sign),
+  CoulombFrictionSpec sign_law = Friction(1, 0.9, 6.5);
+  sign_law.law = FrictionEquality::kSign;
+  const std::vector<LawSpec> sign = {sign_law};
+  CHECK_THROWS_WITH_AS(Make(massed, sign),
                        doctest::Contains("nonlinearities[0].law"), InputError);
 }
 

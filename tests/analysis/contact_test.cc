@@ -15,8 +15,12 @@
 #include <vector>
 
 #include "continuation/fixed_lambda.h"
-#include "models/model_builder.h"
+#include "tools/case_file.h"
+#include "tools/model_reader.h"
 #include "nonlinearities/dlft_contact.h"
+#include "analysis/trace.h"
+#include "tools/case_file.h"
+#include "tools/model_reader.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -52,13 +56,13 @@ constexpr double kLinearTolerance = 1e-10;
 TEST_CASE("contact: a rod with a distant obstacle reproduces the linear FRF") {
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json source =
-      LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json").source;
+      ReadCaseFile(std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json").source;
   source["nonlinearities"][0]["gap"] = 1.0;
   source["harmonics"] = {{"max", 3}};
   const std::string base_dir = std::string(NFRC_SOURCE_DIR) + "/cases/rod";
   const ModelDefinition reference_model = BuildModel(source["model"], base_dir);
   Case the_case = ParseCase(source, base_dir);
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   const Branch branch = Trace(*system, the_case.continuation);
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
@@ -161,7 +165,7 @@ struct Traced {
 
 Traced TraceCase(const nlohmann::json& source) {
   Traced t{ParseCase(source, "."), nullptr, {}};
-  t.system = MakeSystem(t.the_case);
+  t.system = BuildSystem(t.the_case);
   t.branch = Trace(*t.system, t.the_case.continuation);
   return t;
 }
@@ -281,14 +285,14 @@ TEST_CASE("contact: DLFT with a flexible obstacle and eps = k_obs is the penalty
   REQUIRE(dlft.branch.points.size() > 20);
 
   Case penalty_case = ParseCase(NlvibCase({Penalty(0, 1, 1, kObstacleStiffness)}), ".");
-  auto penalty = MakeSystem(penalty_case);
+  auto penalty = BuildSystem(penalty_case);
   nlohmann::json other_law = {{"type", "dlft_contact"},
                               {"dof", 0},
                               {"other", 2},
                               {"gap", 1},
                               {"epsilon", kObstacleStiffness}};
   Case other_case = ParseCase(NlvibCaseWithObstacleDof(other_law), ".");
-  auto other = MakeSystem(other_case);
+  auto other = BuildSystem(other_case);
   const HarmonicSet& set = penalty->harmonic_set();
   const int nc = set.NumCoefficients();
 
@@ -432,7 +436,7 @@ TEST_CASE("contact: two contact nodes, flexible DLFT against the penalty law at 
       {Penalty(0, 1, 1, kObstacleStiffness), Penalty(1, -1, kSecondGap, kSecondStiffness)});
   penalty_source["harmonics"] = harmonics;
   Case penalty_case = ParseCase(penalty_source, ".");
-  auto penalty = MakeSystem(penalty_case);
+  auto penalty = BuildSystem(penalty_case);
 
   double worst = 0.0, max_force[2] = {0.0, 0.0}, max_penetration[2] = {0.0, 0.0};
   double max_bound[2] = {0.0, 0.0};

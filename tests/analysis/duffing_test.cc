@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "analysis/trace.h"
+#include "tools/case_file.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -14,7 +16,7 @@ constexpr double kFoldTolerance = 1e-6;
 
 Branch TraceCaseFile(const std::string& name, std::unique_ptr<HarmonicSystem>* keep = nullptr) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   Branch branch = Trace(*system, the_case.continuation);
   if (keep != nullptr) *keep = std::move(system);
   return branch;

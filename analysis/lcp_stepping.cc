@@ -1,12 +1,10 @@
-#include "tools/lcp_stepping.h"
+#include "analysis/trace.h"
 
 #include <algorithm>
 #include <chrono>
 #include <ostream>
 
-#include "tools/branch_writer.h"
-#include "tools/lcp_hbm.h"
-#include "tools/run_case.h"
+#include "analysis/lcp_hbm.h"
 
 namespace nfrc {
 namespace {
@@ -31,26 +29,33 @@ std::vector<double> Grid(const Case& the_case) {
   return grid;
 }
 
-nlohmann::json LemkeJson(const LcpHbm::Solution& s) {
-  return {{"status", ToString(s.lemke.status)},
-          {"pivots", s.lemke.pivots},
-          {"trivial", s.lemke.trivial},
-          {"warm_started", s.lemke.warm_started},
-          {"complementarity", s.lemke.complementarity},
-          {"feasibility", s.lemke.feasibility},
-          {"complementarity_gap", s.complementarity_gap}};
+LemkeRecord Record(const LcpHbm::Solution& s) {
+  LemkeRecord r;
+  r.status = s.lemke.status;
+  r.pivots = s.lemke.pivots;
+  r.trivial = s.lemke.trivial;
+  r.warm_started = s.lemke.warm_started;
+  r.complementarity = s.lemke.complementarity;
+  r.feasibility = s.lemke.feasibility;
+  r.complementarity_gap = s.complementarity_gap;
+  return r;
 }
 
 bool HasContact(const LcpHbm::Solution& s) { return s.lambda.maxCoeff() > 0.0; }
 
 }  // namespace
 
-Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* progress,
-                      const std::atomic<bool>* stop) {
+TraceResult StepLcp(const Case& the_case, const TraceOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  std::unique_ptr<HarmonicSystem> system = MakeSystem(the_case);
-  LcpHbm lcp(*system);
-  BranchWriter writer(out_dir, the_case, *system, /*solve_signals=*/false);
+  std::ostream* progress = options.progress;
+  const std::atomic<bool>* stop = options.stop;
+  TraceObserver* observer = options.observer;
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
+  LcpHbm lcp(*system, the_case.laws);
+  SolutionReporter reporter(*system, the_case.output_dofs, the_case.output_names);
+  TraceResult result;
+  result.num_unknowns = system->NumUnknowns();
+  if (observer != nullptr) observer->OnStart(result.num_unknowns);
   const std::vector<double> grid = Grid(the_case);
   if (progress != nullptr) {
     *progress << "nfrc: LCP-HBM stepping, " << lcp.num_samples() << " complementarity pairs ("
@@ -58,7 +63,7 @@ Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* 
               << the_case.harmonics.num_samples() << " samples), " << grid.size() << " frequencies "
               << grid.front() << " -> " << grid.back() << "\n";
   }
-  Branch branch;
+  Branch& branch = result.branch;
   ContinuationSummary& summary = branch.summary;
   std::vector<int> contact_basis;  // Lemke basis of the last solution with contact
   int failures = 0;
@@ -80,8 +85,8 @@ Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* 
       if (progress != nullptr) *progress << "nfrc: " << record.note << "\n";
       continue;
     }
-    nlohmann::json info = LemkeJson(cold);
-    info["coexisting_contact"] = false;
+    TracePoint record_point;
+    record_point.lemke = Record(cold);
     std::optional<LcpHbm::Solution> warm;
     if (HasContact(cold)) {
       contact_basis = cold.lemke.basic_z;
@@ -91,7 +96,7 @@ Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* 
       warm = lcp.Solve(omega, options);
       if (warm->lemke.ok() && HasContact(*warm)) {
         contact_basis = warm->lemke.basic_z;
-        info["coexisting_contact"] = true;
+        record_point.coexisting_contact = true;
         ++coexisting;
       } else {
         contact_basis.clear();
@@ -104,17 +109,24 @@ Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* 
     point.tangent_y = Eigen::VectorXd::Zero(cold.y.size());
     point.residual_norm = cold.lemke.equation_residual;
     const int index = static_cast<int>(branch.points.size());
-    writer.OnPoint(point, index);
-    if (warm) {
-      nlohmann::json contact = writer.Measure(warm->y, omega);
-      contact["lcp"] = LemkeJson(*warm);
-      info["contact_branch"] = std::move(contact);
-    }
-    writer.AnnotateLastPoint({{"lcp", info}});
-    if (std::find(the_case.signals_at.begin(), the_case.signals_at.end(), omega) !=
-        the_case.signals_at.end()) {
-      writer.WriteSignals(omega, cold.y, index, true, "LCP-HBM (Lemke, cold start)");
-      if (warm) writer.WriteSignals(omega, warm->y, index, true, "coexisting contact solution");
+    record_point.index = index;
+    record_point.point = point;
+    record_point.measures = reporter.Measure(point.y, omega);
+    if (warm) record_point.contact_branch = ContactBranchRecord{reporter.Measure(warm->y, omega),
+                                                                Record(*warm)};
+    result.points.push_back(std::move(record_point));
+    if (observer != nullptr) observer->OnPoint(result.points.back());
+    if (options.solve_signals && std::find(the_case.signals_at.begin(), the_case.signals_at.end(),
+                                           omega) != the_case.signals_at.end()) {
+      auto add_signals = [&](const Eigen::VectorXd& y, const char* note) {
+        SolutionSignals signals = reporter.Signals(y, omega);
+        signals.after_point = index;
+        signals.note = note;
+        result.signals.push_back(std::move(signals));
+        if (observer != nullptr) observer->OnSignals(result.signals.back());
+      };
+      add_signals(cold.y, "LCP-HBM (Lemke, cold start)");
+      if (warm) add_signals(warm->y, "coexisting contact solution");
     }
     branch.points.push_back(std::move(point));
     record.accepted = true;
@@ -140,8 +152,7 @@ Branch RunLcpStepping(Case& the_case, const std::string& out_dir, std::ostream* 
   if (summary.reason == TerminationReason::kStoppedByObserver) {
     summary.message += " (interrupted by a signal)";
   }
-  writer.Finish(summary);
-  return branch;
+  return result;
 }
 
 }  // namespace nfrc

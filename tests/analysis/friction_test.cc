@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "support/den_hartog.h"
-#include "tools/point_measures.h"
+#include "analysis/point_measures.h"
+#include "analysis/trace.h"
+#include "tools/case_file.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -30,7 +32,7 @@ std::string FrictionCasePath(const std::string& name) {
 
 // The case file's JSON, for editing before ParseCase.
 nlohmann::json CaseSource(const std::string& name) {
-  return LoadCase(FrictionCasePath(name)).source;
+  return ReadCaseFile(FrictionCasePath(name)).source;
 }
 
 Case ParseEdited(const nlohmann::json& source) {
@@ -138,7 +140,7 @@ TEST_CASE("friction with mu = 0 reproduces the linear solution") {
   source["continuation"]["omega_start"] = 0.1;
   source["continuation"]["omega_end"] = 0.8;
   Case the_case = ParseEdited(source);
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   const Branch branch = Trace(*system, the_case.continuation);
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
@@ -192,7 +194,7 @@ TEST_CASE(
   source["continuation"]["omega_start"] = 1.2;
   source["continuation"]["omega_end"] = 1.6;
   Case the_case = ParseEdited(source);
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   const Branch branch = Trace(*system, the_case.continuation);
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
@@ -289,9 +291,9 @@ TEST_CASE("exact-law solution at N_phi = 160 satisfies Coulomb's law on the samp
   REQUIRE(omega == 0.308);
   REQUIRE(the_case.harmonics.max_harmonic() == 159);
   REQUIRE(the_case.harmonics.odd_only());
-  const double limit = kMu * the_case.source["nonlinearities"][0]["normal_load"].get<double>();
+  const double limit = kMu * std::get<CoulombFrictionSpec>(the_case.laws[0]).normal_load;
   REQUIRE(limit == doctest::Approx(9.0));
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   const Eigen::VectorXd y = StartingGuess(the_case, *system, nullptr);
   Eigen::VectorXd residual;
   REQUIRE(system->Evaluate(y, omega, &residual, nullptr, nullptr));
@@ -426,7 +428,7 @@ Eigen::VectorXd SolveOneDof(double omega, int h, std::unique_ptr<HarmonicSystem>
   source["continuation"]["omega_start"] = omega;
   source["continuation"]["omega_end"] = omega + 0.1;
   Case the_case = ParseEdited(source);
-  *system = MakeSystem(the_case);
+  *system = BuildSystem(the_case);
   return StartingGuess(the_case, **system, nullptr);
 }
 
@@ -489,7 +491,7 @@ TEST_CASE("one-DOF Coulomb FRC peak with 21 odd harmonics vs NLvib") {
   Case the_case = LoadCase(FrictionCasePath("one_dof_coulomb.json"));
   REQUIRE(the_case.harmonics.max_harmonic() == 21);
   REQUIRE(the_case.harmonics.odd_only());
-  auto system = MakeSystem(the_case);
+  auto system = BuildSystem(the_case);
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
   const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "continuation/fixed_lambda.h"
-#include "core/input_fields.h"
+#include "tools/input_fields.h"
 #include "tools/epsilon_refinement.h"
-#include "tools/lcp_hbm.h"
-#include "tools/lcp_stepping.h"
+#include "analysis/lcp_hbm.h"
+#include "analysis/trace.h"
+#include "analysis/trace.h"
+#include "tools/case_file.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -26,7 +28,7 @@ constexpr double kOmega0 = 63953.9;  // rad/s, first eigenfrequency of the ρ = 
 // harmonics and N_t samples: small enough for a unit test, the same physics.
 nlohmann::json RodSource(int max_harmonic, int samples, const std::string& type) {
   nlohmann::json source =
-      LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json").source;
+      ReadCaseFile(std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json").source;
   source["nonlinearities"][0]["type"] = type;
   source["harmonics"] = {{"max", max_harmonic}, {"samples", samples}};
   return source;
@@ -59,8 +61,8 @@ TEST_CASE("LCP-HBM: Lemke's solution satisfies the harmonic equations and the co
   for (int samples : {17, 64}) {  // square (N_t = 2H + 1) and oversampled (W singular)
     CAPTURE(samples);
     Case the_case = RodCase(RodSource(8, samples, "lcp_contact"));
-    auto system = MakeSystem(the_case);
-    LcpHbm lcp(*system);
+    auto system = BuildSystem(the_case);
+    LcpHbm lcp(*system, the_case.laws);
     const LcpHbm::Solution s = lcp.Solve(kOmega0);
     REQUIRE(s.lemke.ok());
     CHECK_FALSE(s.lemke.trivial);
@@ -87,8 +89,8 @@ constexpr double kMethodsTolerance = 1e-7;
 
 TEST_CASE("LCP-HBM: on square Fourier matrices Lemke and semismooth Newton agree") {
   Case the_case = RodCase(RodSource(8, 17, "lcp_contact"));
-  auto system = MakeSystem(the_case);
-  LcpHbm lcp(*system);
+  auto system = BuildSystem(the_case);
+  LcpHbm lcp(*system, the_case.laws);
   for (double omega : {6.3e4, 6.35e4, kOmega0}) {
     CAPTURE(omega);
     const LcpHbm::Solution s = lcp.Solve(omega);

@@ -1,0 +1,149 @@
+#include "analysis/trace.h"
+
+#include <algorithm>
+#include <ostream>
+
+#include "continuation/fixed_lambda.h"
+#include "core/errors.h"
+
+namespace nfrc {
+namespace {
+
+// Measures every point, resolves the signals_at crossings of each new segment and forwards
+// the typed results to the caller's observer; stops the engine when `stop` is raised.
+class TraceRecorder : public ContinuationObserver {
+ public:
+  TraceRecorder(const Case& the_case, HarmonicSystem& system, const TraceOptions& options,
+                TraceResult* result)
+      : case_(the_case),
+        system_(system),
+        options_(options),
+        reporter_(system, the_case.output_dofs, the_case.output_names),
+        result_(result) {}
+
+  bool OnPoint(const BranchPoint& point, int index) override {
+    // Filled in place: a TracePoint copied with its empty optionals trips GCC 12's
+    // -Wmaybe-uninitialized.
+    TracePoint& record = result_->points.emplace_back();
+    record.index = index;
+    record.point = point;
+    record.measures = reporter_.Measure(point.y, point.lambda);
+    bool go_on = options_.observer == nullptr || options_.observer->OnPoint(result_->points.back());
+    if (options_.solve_signals) {
+      for (double omega : case_.signals_at) {
+        const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
+        if (const auto solved =
+                SolveAtCrossing(system_, previous, point, omega, case_.continuation)) {
+          SolutionSignals signals = reporter_.Signals(solved->y, omega);
+          signals.after_point = point.lambda == omega ? index : index - 1;
+          signals.converged = solved->converged;
+          signals.note = solved->message;
+          result_->signals.push_back(std::move(signals));
+          if (options_.observer != nullptr) options_.observer->OnSignals(result_->signals.back());
+        }
+      }
+    }
+    previous_ = point;
+    const bool stopped = options_.stop != nullptr && options_.stop->load();
+    return go_on && !stopped;
+  }
+
+  void OnFold(const Fold& fold) override {
+    TraceFold record{fold, reporter_.analyzer().Measure(fold.y, fold.lambda)};
+    result_->folds.push_back(record);
+    if (options_.observer != nullptr) options_.observer->OnFold(result_->folds.back());
+  }
+
+ private:
+  const Case& case_;
+  HarmonicSystem& system_;
+  const TraceOptions& options_;
+  SolutionReporter reporter_;
+  TraceResult* result_;
+  std::optional<BranchPoint> previous_;
+};
+
+// The rung below H on the harmonic ladder: about H/3, odd if the set is odd-only.
+int CoarserMaxHarmonic(const HarmonicSet& set) {
+  int coarse = std::max(1, set.max_harmonic() / 3);
+  if (set.odd_only() && coarse % 2 == 0) --coarse;
+  return std::max(1, coarse);
+}
+
+}  // namespace
+
+Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
+             ContinuationObserver* observer, const Eigen::VectorXd* guess) {
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    try {
+      system.laws()[i]->CheckForContinuation(system.harmonic_set());
+    } catch (const std::invalid_argument& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "] (" + system.laws()[i]->type() +
+                       "): " + error.what());
+    }
+  }
+  const Eigen::VectorXd start =
+      guess != nullptr ? *guess : system.InitialGuess(options.lambda_start);
+  Branch branch = Continue(system, start, options, observer);
+  if (!branch.summary.success() && !system.last_error().empty()) {
+    branch.summary.message += " (last evaluation error: " + system.last_error() + ")";
+  }
+  return branch;
+}
+
+Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
+                              std::ostream* progress) {
+  const ContinuationOptions& options = the_case.continuation;
+  const double omega = options.lambda_start;
+  const Eigen::VectorXd linear = system.InitialGuess(omega);
+  FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
+  if (solved.converged) return solved.y;
+  const HarmonicSet& set = system.harmonic_set();
+  const int coarse_h = CoarserMaxHarmonic(set);
+  if (coarse_h >= set.max_harmonic()) return linear;
+  const int block = set.NumCoefficients();
+  for (const auto& law : system.laws()) {
+    // Only own unknowns that are coefficient signals can move between harmonic sets.
+    if (!law->OwnUnknownsAreCoefficients() || law->NumOwnUnknowns(set) % block != 0) {
+      return linear;
+    }
+  }
+  if (progress != nullptr) {
+    *progress << "nfrc: no start from the linear guess with H=" << set.max_harmonic()
+              << "; starting from H=" << coarse_h << "\n";
+  }
+  // The same case with fewer harmonics (the default sampling of that set).
+  Case coarse_case = the_case;
+  coarse_case.harmonics = HarmonicSet(coarse_h, set.odd_only());
+  std::unique_ptr<HarmonicSystem> coarse_system = BuildSystem(coarse_case);
+  const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress);
+  const Eigen::VectorXd padded = ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
+  solved = SolveAtFixedLambda(system, padded, omega, padded, options);
+  return solved.converged ? solved.y : linear;
+}
+
+TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
+  the_case.Validate();
+  if (the_case.method == Method::kLemkeStepping) return StepLcp(the_case, options);
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
+  TraceResult result;
+  result.num_unknowns = system->NumUnknowns();
+  if (options.observer != nullptr) options.observer->OnStart(result.num_unknowns);
+  TraceRecorder recorder(the_case, *system, options, &result);
+  ContinuationOptions continuation = the_case.continuation;
+  continuation.progress = options.progress;
+  if (options.progress != nullptr) {
+    *options.progress << "nfrc: " << system->NumUnknowns() << " unknowns ("
+                      << the_case.harmonics.num_harmonics() << " harmonics, "
+                      << the_case.harmonics.num_samples() << " samples), omega "
+                      << continuation.lambda_start << " -> " << continuation.lambda_end << "\n";
+  }
+  const Eigen::VectorXd guess = StartingGuess(the_case, *system, options.progress);
+  result.branch = Trace(*system, continuation, &recorder, &guess);
+  if (options.stop != nullptr && options.stop->load()) {
+    result.branch.summary.message += " (interrupted by a signal)";
+  }
+  return result;
+}
+
+}  // namespace nfrc

@@ -1,0 +1,102 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <atomic>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/case.h"
+#include "analysis/harmonic_system.h"
+#include "analysis/solution_report.h"
+#include "continuation/continuation.h"
+#include "core/lemke.h"
+
+namespace nfrc {
+
+// What Lemke reported for one LCP-HBM solution (Lemke stepping).
+struct LemkeRecord {
+  LemkeStatus status = LemkeStatus::kSolution;
+  int pivots = 0;
+  bool trivial = false;
+  bool warm_started = false;
+  double complementarity = 0.0;
+  double feasibility = 0.0;
+  double complementarity_gap = 0.0;  // m, max |min(g, λ/w)|
+};
+
+// A coexisting contact solution found by a warm start where the cold solve was trivial.
+struct ContactBranchRecord {
+  SolutionMeasures measures;
+  LemkeRecord lemke;
+};
+
+// One point of a traced branch with what is reported about it.
+struct TracePoint {
+  int index = 0;
+  BranchPoint point;
+  SolutionMeasures measures;
+  std::optional<LemkeRecord> lemke;               // Lemke stepping only
+  bool coexisting_contact = false;                // Lemke stepping: a warm start found one
+  std::optional<ContactBranchRecord> contact_branch;
+};
+
+// A fold with the response measures at it.
+struct TraceFold {
+  Fold fold;
+  PointMeasures measures;
+};
+
+// Receives a trace's results as they are found (a writer, a progress display). Called on
+// the tracing thread; returning false from OnPoint stops the trace (points kept).
+class TraceObserver {
+ public:
+  virtual ~TraceObserver() = default;
+  // Before the first point, once the system is built.
+  virtual void OnStart(int /*num_unknowns*/) {}
+  virtual bool OnPoint(const TracePoint& /*point*/) { return true; }
+  virtual void OnFold(const TraceFold& /*fold*/) {}
+  virtual void OnSignals(const SolutionSignals& /*signals*/) {}
+};
+
+struct TraceOptions {
+  std::ostream* progress = nullptr;            // progress lines; null = quiet
+  const std::atomic<bool>* stop = nullptr;     // polled after every point
+  TraceObserver* observer = nullptr;           // results as they come
+  bool solve_signals = true;                   // resolve the case's signals_at crossings
+};
+
+// A traced branch and everything reported along it.
+struct TraceResult {
+  Branch branch;  // points, folds and the summary (termination reason, message, counts)
+  std::vector<TracePoint> points;
+  std::vector<TraceFold> folds;
+  std::vector<SolutionSignals> signals;
+  int num_unknowns = 0;
+};
+
+// Traces the branch of a case (the arclength engine, or Lemke stepping for
+// continuation.method "lemke_stepping"), with the starting point of StartingGuess, and
+// resolves the signals_at crossings. Throws InputError for bad input; numerical failure is
+// the summary's termination reason.
+TraceResult TraceCase(const Case& the_case, const TraceOptions& options = {});
+
+// Traces the branch of `system` from `guess` (default: the linear guess) at
+// options.lambda_start.
+Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
+             ContinuationObserver* observer = nullptr, const Eigen::VectorXd* guess = nullptr);
+
+// A starting point at lambda_start for a case: Newton from the linear guess or, when that
+// fails (nonsmooth laws with many harmonics), the start of the same case with about a third
+// of the harmonics (recursively) re-expressed in the full set and corrected. Returns the
+// linear guess if every rung fails (the engine then reports the failed start).
+Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
+                              std::ostream* progress);
+
+// Lemke stepping (continuation.method "lemke_stepping"): LCP-HBM at `stepping.points`
+// evenly spaced ω plus the signals_at frequencies.
+TraceResult StepLcp(const Case& the_case, const TraceOptions& options = {});
+
+}  // namespace nfrc
