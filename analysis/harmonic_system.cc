@@ -131,8 +131,16 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     for (size_t i = 0; i < laws_.size(); ++i) {
       laws_[i]->Evaluate(contexts_[i], y, omega, *residual, jacobian_y, jacobian_omega);
     }
-    if (!residual->allFinite()) {
-      last_error_ = "residual is not finite at omega = " + std::to_string(omega);
+    // An overflow (absurd coefficients, a diverging iterate) is a numerical failure with a
+    // cause, not a silent one.
+    const char* what = !residual->allFinite()                               ? "residual"
+                       : jacobian_y != nullptr && !jacobian_y->allFinite() ? "Jacobian"
+                       : jacobian_omega != nullptr && !jacobian_omega->allFinite()
+                           ? "omega-derivative"
+                           : nullptr;
+    if (what != nullptr) {
+      last_error_ = std::string(what) + " is not finite at omega = " + std::to_string(omega) +
+                    " (overflow: check the magnitudes of the case's coefficients)";
       return false;
     }
     return true;
