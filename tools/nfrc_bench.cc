@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "core/condensation.h"
+#include "models/damping.h"
+#include "models/rod.h"
 #include "analysis/lcp_hbm.h"
 #include "analysis/trace.h"
 #include "tools/case_file.h"
@@ -137,13 +139,27 @@ void BenchRefinedRod(int elements, int max_points) {
   constexpr double kRatio = 0.0075;
   const double beta = 2.0 * kRatio / kOmega0;
   const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json";
-  nlohmann::json source = nfrc::ReadCaseFile(path).source;
-  source["model"]["elements"] = elements;
-  source["model"]["damping"] = {{"rayleigh", {{"stiffness", beta}}}};
-  source["continuation"]["omega_start"] = 6.3e4;
-  source["continuation"]["omega_end"] = 6.6e4;
-  source["continuation"]["max_points"] = max_points;
-  nfrc::Case the_case = nfrc::ParseCase(source, std::string(NFRC_SOURCE_DIR) + "/cases/rod");
+  // The case as read, with the rod refined: the model is rebuilt from the file's rod
+  // parameters (the typed case keeps the built matrices, not the parameters) and the
+  // contact and forcing move to the new end DOF.
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(path);
+  nfrc::Case the_case = file.the_case;
+  nfrc::RodParameters rod;
+  rod.elements = elements;
+  rod.length = file.source["model"]["length"].get<double>();
+  rod.area = file.source["model"]["area"].get<double>();
+  rod.young = file.source["model"]["young"].get<double>();
+  rod.density = file.source["model"]["density"].get<double>();
+  the_case.model.model = nfrc::BuildRod(rod);
+  const int end = the_case.model.model.FindDof("end");
+  the_case.model.model.damping =
+      nfrc::RayleighDamping(the_case.model.model.mass, the_case.model.model.stiffness, 0.0, beta);
+  for (nfrc::ForcingTerm& term : the_case.model.forcing) term.dof = end;
+  for (nfrc::LawSpec& law : the_case.laws) std::get<nfrc::DlftContactSpec>(law).contact.geometry.dof = end;
+  the_case.output_dofs = {end};
+  the_case.continuation.lambda_start = 6.3e4;
+  the_case.continuation.lambda_end = 6.6e4;
+  the_case.continuation.max_points = max_points;
   const nfrc::LinearModel model = the_case.model.model;  // MakeSystem copies it anyway
   const std::vector<nfrc::ForcingTerm> forcing = the_case.model.forcing;
   const double omega0 = LowestEigenfrequency(model);
@@ -272,7 +288,7 @@ LcpPointTimes TimeLcpPoint(nfrc::LcpHbm& lcp, double omega, int repeats, int* pe
 void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_points) {
   const auto section_start = Clock::now();
   const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/lcp";
-  const nlohmann::json base = nfrc::ReadCaseFile(dir + "/rigid_stepping_nt400.json").source;
+  const nfrc::Case base = nfrc::LoadCase(dir + "/rigid_stepping_nt400.json");
   constexpr double kOmegas[] = {63953.9, 6.45e4};  // rad/s, both in contact
   constexpr double kSweepStart = 6.2e4;            // rad/s
   constexpr double kSweepEnd = 6.6e4;              // rad/s
@@ -283,9 +299,9 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
   std::printf("  %4s %5s %12s %12s %9s %7s %15s\n", "N_t", "n", "omega rad/s", "assembly ms",
               "Lemke ms", "pivots", "total ms/point");
   for (int nt : samples) {
-    nlohmann::json source = base;
-    source["harmonics"]["samples"] = nt;
-    nfrc::Case the_case = nfrc::ParseCase(source, dir);
+    nfrc::Case the_case = base;
+    the_case.harmonics =
+        nfrc::HarmonicSet(base.harmonics.max_harmonic(), base.harmonics.odd_only(), nt);
     auto system = nfrc::BuildSystem(the_case);
     nfrc::LcpHbm lcp(*system, the_case.laws);
     int perturbation = 0;
