@@ -1,9 +1,9 @@
 #include "tools/case_file.h"
 
 #include <filesystem>
-#include <fstream>
 
 #include "tools/input_fields.h"
+#include "tools/json_input.h"
 #include "tools/law_reader.h"
 #include "tools/model_reader.h"
 #include "tools/validation_reader.h"
@@ -133,14 +133,9 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
 }
 
 CaseFile ReadCaseFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open case file");
   CaseFile file;
-  try {
-    file.source = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& error) {
-    throw InputError(path + ": not valid JSON (" + error.what() + ")");
-  }
+  // Depth, duplicate keys, number range, file type and size are checked while reading.
+  file.source = ReadJsonFile(path);
   const std::string base_dir = std::filesystem::absolute(path).parent_path().string();
   try {
     file.the_case = ParseCase(file.source, base_dir);

@@ -1,0 +1,87 @@
+// libFuzzer target of the case reader: bytes -> ParseJsonText -> the case parser. The only
+// exception a case file may raise is nfrc::InputError; any other exception, a crash, a leak,
+// a timeout or a sanitizer report is a finding. Built with -DNFRC_FUZZ=ON (tools/fuzz/fuzz.cmake),
+// run by tools/fuzz/run_fuzz.sh.
+
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+#include "core/errors.h"
+#include "tools/case_file.h"
+#include "tools/json_input.h"
+
+namespace {
+
+// The case parser under test: the one call to adapt when it is renamed or moves.
+void ParseTheCase(const nlohmann::json& source, const std::string& base_dir) {
+  nfrc::ParseCase(source, base_dir);
+}
+
+// Keys of "model" whose string value is a Matrix Market path (tools/model_reader.cc).
+constexpr const char* kMatrixKeys[] = {"M", "K", "C"};
+
+// Directory relative matrix paths resolve against: empty, so a fuzzed case finds no file.
+// run_fuzz.sh passes one in NFRC_FUZZ_BASE_DIR; otherwise one is made and removed at exit.
+class BaseDir {
+ public:
+  BaseDir() {
+    if (const char* given = std::getenv("NFRC_FUZZ_BASE_DIR")) {
+      path_ = given;
+      return;
+    }
+    std::string pattern = (std::filesystem::temp_directory_path() / "nfrc_fuzz_XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr) std::abort();
+    path_ = pattern;
+    owned_ = true;
+  }
+  BaseDir(const BaseDir&) = delete;
+  BaseDir& operator=(const BaseDir&) = delete;
+  ~BaseDir() {
+    std::error_code ignored;
+    if (owned_) std::filesystem::remove(path_, ignored);
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  bool owned_ = false;
+};
+
+// True if a matrix path of the case leaves the base directory (absolute, or with a ".."
+// component): such inputs are skipped, so that fuzzing never reads a file of the machine.
+bool NamesFileOutsideBaseDir(const nlohmann::json& source) {
+  if (!source.is_object() || !source.contains("model")) return false;
+  const nlohmann::json& model = source.at("model");
+  if (!model.is_object()) return false;
+  for (const char* key : kMatrixKeys) {
+    if (!model.contains(key) || !model.at(key).is_string()) continue;
+    const std::filesystem::path path(model.at(key).get<std::string>());
+    if (path.is_absolute()) return true;
+    for (const auto& part : path) {
+      if (part == "..") return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const BaseDir base_dir;
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  try {
+    const nlohmann::json source = nfrc::ParseJsonText(text, "fuzz.json");
+    if (NamesFileOutsideBaseDir(source)) return 0;
+    ParseTheCase(source, base_dir.path());
+  } catch (const nfrc::InputError&) {
+    // Rejected input with a message: the expected outcome for most inputs.
+  }
+  return 0;
+}
