@@ -161,10 +161,7 @@ void Case::Validate() const {
   bool driven = false;
   for (const ForcingTerm& term : model.forcing) driven |= term.cos != 0.0 || term.sin != 0.0;
   for (const LawSpec& law : laws) {
-    const ContactGeometry* geometry = nullptr;
-    if (const auto* s = std::get_if<PenaltyContactSpec>(&law)) geometry = &s->geometry;
-    if (const auto* s = std::get_if<DlftContactSpec>(&law)) geometry = &s->contact.geometry;
-    if (const auto* s = std::get_if<LcpContactSpec>(&law)) geometry = &s->contact.geometry;
+    const ContactGeometry* geometry = LawContactGeometry(law);
     if (geometry == nullptr) continue;
     for (const auto& h : geometry->gap_harmonics) driven |= h.cos != 0.0 || h.sin != 0.0;
   }
@@ -176,6 +173,13 @@ void Case::Validate() const {
     try {
       ValidateLaw(laws[i], model.model);
     } catch (const InputError& error) {
+      throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
+    }
+    const ContactGeometry* geometry = LawContactGeometry(laws[i]);
+    if (geometry == nullptr) continue;
+    try {
+      geometry->GapCoefficients(harmonics);  // every gap harmonic must be in the set
+    } catch (const std::invalid_argument& error) {
       throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
     }
   }

@@ -114,17 +114,25 @@ std::string_view LawType(const LawSpec& spec) {
   return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kType; }, spec);
 }
 
+const ContactGeometry* LawContactGeometry(const LawSpec& spec) {
+  if (const auto* s = std::get_if<PenaltyContactSpec>(&spec)) return &s->geometry;
+  if (const auto* s = std::get_if<DlftContactSpec>(&spec)) return &s->contact.geometry;
+  if (const auto* s = std::get_if<LcpContactSpec>(&spec)) return &s->contact.geometry;
+  return nullptr;
+}
+
 std::vector<int> LawDofs(const LawSpec& spec) {
+  if (const ContactGeometry* geometry = LawContactGeometry(spec)) return geometry->Dofs();
   return std::visit(
       [](const auto& s) -> std::vector<int> {
         using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, PenaltyContactSpec>) {
-          return s.geometry.Dofs();
-        } else if constexpr (std::is_same_v<T, DlftContactSpec> ||
-                             std::is_same_v<T, LcpContactSpec>) {
-          return s.contact.geometry.Dofs();
-        } else {
+        if constexpr (requires { s.dof; }) {
           return s.other < 0 ? std::vector<int>{s.dof} : std::vector<int>{s.dof, s.other};
+        } else {
+          static_assert(std::is_same_v<T, PenaltyContactSpec> ||
+                            std::is_same_v<T, DlftContactSpec> || std::is_same_v<T, LcpContactSpec>,
+                        "a law without dof/other must be a contact law");
+          return {};
         }
       },
       spec);

@@ -96,6 +96,9 @@ using LawSpec = std::variant<CubicSpringSpec, PolynomialSpringSpec, CoulombFrict
 // The case-file "type" of a spec (for messages and outputs).
 std::string_view LawType(const LawSpec& spec);
 
+// The contact geometry of a contact law's spec; null for the other laws.
+const ContactGeometry* LawContactGeometry(const LawSpec& spec);
+
 // The model DOFs a spec acts on.
 std::vector<int> LawDofs(const LawSpec& spec);
 

@@ -1,5 +1,6 @@
 #include "tools/model_reader.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 
@@ -128,7 +129,13 @@ ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_di
     }
     for (const auto& name : names) {
       if (!name.is_string()) fields.Fail("dof_names", "names must be strings");
-      model.dof_names.push_back(name.get<std::string>());
+      const std::string text = name.get<std::string>();
+      // A repeated name would make "dof": name ambiguous.
+      if (std::find(model.dof_names.begin(), model.dof_names.end(), text) !=
+          model.dof_names.end()) {
+        fields.Fail("dof_names", "the name \"" + text + "\" appears more than once");
+      }
+      model.dof_names.push_back(text);
     }
   }
   if (fields.Has("damping")) model.damping += ReadDamping(fields, model);

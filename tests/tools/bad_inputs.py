@@ -1,0 +1,275 @@
+#!/usr/bin/env python3
+"""Catalogue of bad inputs to the nfrc program: each must end with its documented exit code
+and one message that names the file and a field (or option) that is really in the input, in
+bounded time, without a crash. usage: bad_inputs.py NFRC_BINARY SOURCE_DIR"""
+
+import copy
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+NFRC, SRC = sys.argv[1], sys.argv[2]
+# Every bad input is refused before any real work: a few seconds is generous even under the
+# sanitizers; a hang is a failure.
+TIMEOUT_S = 60
+EXIT_INPUT, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_IO = 1, 2, 3, 4
+
+WORK = tempfile.mkdtemp(prefix="nfrc_bad_inputs_")
+
+
+def load(name):
+    with open(os.path.join(SRC, "cases", name)) as f:
+        return json.load(f)
+
+
+DUFFING = load("duffing.json")
+ROD = load("rod/rigid_nh20.json")
+FRICTION = load("friction/frc_n10.json")
+
+
+def write(name, content):
+    path = os.path.join(WORK, name)
+    with open(path, "w") as f:
+        f.write(content if isinstance(content, str) else json.dumps(content))
+    return path
+
+
+def edited(base, edit):
+    case = copy.deepcopy(base)
+    edit(case)
+    return case
+
+
+def setitem(path, value):
+    """An edit setting case[path[0]][path[1]]... = value."""
+    def edit(case):
+        node = case
+        for key in path[:-1]:
+            node = node[key]
+        node[path[-1]] = value
+    return edit
+
+
+def delitem(path):
+    def edit(case):
+        node = case
+        for key in path[:-1]:
+            node = node[key]
+        del node[path[-1]]
+    return edit
+
+
+CASES = []  # (name, argv, expected exit, substrings every one of which the output contains)
+
+
+def case_error(name, base, edit, *needles, code=EXIT_INPUT):
+    """A case file edited to be wrong: `nfrc run` must name the file and the field."""
+    path = write(name + ".json", edited(base, edit))
+    CASES.append((name, ["run", path, "--out", os.path.join(WORK, "out_" + name)], code,
+                  [path] + list(needles)))
+
+
+def raw_error(name, text, *needles, code=EXIT_INPUT):
+    path = write(name + ".json", text)
+    CASES.append((name, ["run", path, "--out", os.path.join(WORK, "out_" + name)], code,
+                  [path] + list(needles)))
+
+
+def command(name, argv, code, *needles):
+    CASES.append((name, argv, code, list(needles)))
+
+
+duffing_text = json.dumps(DUFFING)
+
+# --- the JSON document itself ---------------------------------------------------------------
+raw_error("deep_nesting", '{"a":' * 100000 + "1" + "}" * 100000, "nested deeper")
+raw_error("deep_nesting_5000", "[" * 5000 + "]" * 5000, "nested deeper")
+raw_error("duplicate_key", duffing_text.replace('"title"', '"title": "x", "title"', 1),
+          "title: duplicate key")
+raw_error("duplicate_nested_key",
+          duffing_text.replace('"omega_start"', '"omega_start": 1, "omega_start"', 1),
+          "continuation.omega_start: duplicate key")
+raw_error("number_overflow", duffing_text.replace('"step": 0.01', '"step": 1e400'),
+          "continuation.step", "out of range")
+raw_error("negative_overflow", duffing_text.replace('"omega_start": 0.5', '"omega_start": -1e400'),
+          "continuation.omega_start", "out of range")
+raw_error("not_json", "this is not json", "not valid JSON")
+raw_error("truncated_json", duffing_text[: len(duffing_text) // 2], "not valid JSON")
+raw_error("empty_file", "", "empty file")
+raw_error("top_level_array", "[1, 2, 3]", "expected an object")
+raw_error("trailing_garbage", duffing_text + " }", "not valid JSON")
+command("case_is_directory", ["run", WORK, "--out", os.path.join(WORK, "o")], EXIT_INPUT,
+        WORK, "is a directory")
+command("case_is_dev_zero", ["run", "/dev/zero", "--out", os.path.join(WORK, "o")], EXIT_INPUT,
+        "/dev/zero", "not a regular file")
+command("case_missing", ["run", os.path.join(WORK, "none.json"), "--out",
+                         os.path.join(WORK, "o")], EXIT_INPUT, "none.json", "cannot open")
+
+# --- fields of the case ---------------------------------------------------------------------
+case_error("unknown_top_key", DUFFING, setitem(["colour"], "red"), "colour: unknown key")
+case_error("unknown_continuation_key", DUFFING, setitem(["continuation", "stepp"], 0.1),
+           "continuation.stepp: unknown key")
+case_error("missing_model", DUFFING, delitem(["model"]), "model: missing")
+case_error("missing_harmonics", DUFFING, delitem(["harmonics"]), "harmonics: missing")
+case_error("harmonics_max_zero", DUFFING, setitem(["harmonics", "max"], 0), "harmonics.max")
+case_error("harmonics_max_2e9", DUFFING, setitem(["harmonics", "max"], 2000000000),
+           "harmonics.max")
+case_error("harmonics_max_1e5", DUFFING, setitem(["harmonics", "max"], 100000), "harmonics.")
+case_error("harmonics_max_string", DUFFING, setitem(["harmonics", "max"], "seven"),
+           "harmonics.max", "expected an integer")
+case_error("harmonics_max_float", DUFFING, setitem(["harmonics", "max"], 7.5), "harmonics.max")
+case_error("samples_too_few", DUFFING, setitem(["harmonics", "samples"], 5), "harmonics.samples")
+case_error("samples_4e6", DUFFING, setitem(["harmonics", "samples"], 4000000),
+           "harmonics.samples", "oversampling")
+case_error("odd_only_not_bool", DUFFING, setitem(["harmonics", "odd_only"], "yes"),
+           "harmonics.odd_only")
+case_error("omega_start_negative", DUFFING, setitem(["continuation", "omega_start"], -1),
+           "continuation.omega_start")
+case_error("omega_end_equal", DUFFING, setitem(["continuation", "omega_end"], 0.5),
+           "continuation.omega_end")
+case_error("step_negative", DUFFING, setitem(["continuation", "step"], -0.1), "continuation.")
+case_error("max_points_zero", DUFFING, setitem(["continuation", "max_points"], 0),
+           "continuation.max_points")
+case_error("method_unknown", DUFFING, setitem(["continuation", "method"], "shooting"),
+           "continuation.method")
+case_error("stepping_points_1e9", load("lcp/rigid_stepping_nt41.json"),
+           setitem(["continuation", "points"], 1000000000), "continuation.points")
+case_error("stepping_points_one", load("lcp/rigid_stepping_nt41.json"),
+           setitem(["continuation", "points"], 1), "continuation.points")
+case_error("output_missing", DUFFING, delitem(["output"]), "output: missing")
+case_error("output_dofs_empty", DUFFING, setitem(["output", "dofs"], []), "output.dofs")
+case_error("output_dof_out_of_range", DUFFING, setitem(["output", "dofs"], [3]),
+           "output.dofs[0]")
+case_error("output_dof_unknown_name", ROD, setitem(["output", "dofs"], ["tip"]),
+           "output.dofs[0]", "tip")
+case_error("signals_at_negative", DUFFING, setitem(["output", "signals_at"], [-1.0]),
+           "output.signals_at")
+case_error("signals_at_1e5", DUFFING,
+           setitem(["output", "signals_at"], [0.5 + 1e-5 * i for i in range(100000)]),
+           "output.signals_at")
+case_error("model_type_unknown", DUFFING, setitem(["model", "type"], "plate"), "model.type")
+case_error("mass_not_square", DUFFING, setitem(["model", "M"], [[1, 0]]), "model.M")
+case_error("mass_negative", DUFFING, setitem(["model", "M"], [[-1]]), "model.M")
+case_error("stiffness_size_mismatch", DUFFING, setitem(["model", "K"], [[1, 0], [0, 1]]),
+           "model.")
+case_error("matrix_entry_string", DUFFING, setitem(["model", "K"], [["one"]]), "model.K")
+case_error("forcing_dof_out_of_range", DUFFING, setitem(["model", "forcing"], [{"dof": 5, "cos": 1}]),
+           "model.forcing[0].dof")
+case_error("forcing_no_amplitude", DUFFING, setitem(["model", "forcing"], [{"dof": 0}]),
+           "model.forcing[0]")
+case_error("forcing_harmonic_outside_set", DUFFING,
+           setitem(["model", "forcing"], [{"dof": 0, "cos": 1, "harmonic": 9}]), "model.forcing")
+case_error("forcing_all_zero", DUFFING, setitem(["model", "forcing"], [{"dof": 0, "cos": 0}]),
+           "model.forcing")
+case_error("dof_names_duplicate", FRICTION, setitem(["model", "dof_names"], ["x1", "x1"]),
+           "model.dof_names", "x1")
+case_error("dof_names_wrong_length", FRICTION, setitem(["model", "dof_names"], ["x1"]),
+           "model.dof_names")
+case_error("rod_elements_zero", ROD, setitem(["model", "elements"], 0), "model.elements")
+case_error("rod_elements_1e6", ROD, setitem(["model", "elements"], 1000000), "model")
+case_error("rod_length_negative", ROD, setitem(["model", "length"], -1), "model.length")
+case_error("modal_damping_negative", ROD, setitem(["model", "damping"], {"modal_ratio": -1}),
+           "model.damping.modal_ratio")
+case_error("matrix_market_missing", DUFFING, setitem(["model", "K"], "nowhere.mtx"),
+           "model.K", "nowhere.mtx")
+
+# --- laws -----------------------------------------------------------------------------------
+case_error("law_type_unknown", DUFFING, setitem(["nonlinearities", 0, "type"], "magic_spring"),
+           "nonlinearities[0].type", "magic_spring")
+case_error("law_type_missing", DUFFING, delitem(["nonlinearities", 0, "type"]),
+           "nonlinearities[0].type")
+case_error("law_unknown_key", DUFFING, setitem(["nonlinearities", 0, "stiffness"], 1),
+           "nonlinearities[0].stiffness: unknown key")
+case_error("law_dof_out_of_range", DUFFING, setitem(["nonlinearities", 0, "dof"], 7),
+           "nonlinearities[0].dof")
+case_error("law_coefficient_string", DUFFING, setitem(["nonlinearities", 0, "coefficient"], "big"),
+           "nonlinearities[0].coefficient")
+case_error("friction_mu_negative", FRICTION, setitem(["nonlinearities", 0, "mu"], -0.1),
+           "nonlinearities[0].mu")
+case_error("friction_law_unknown", FRICTION, setitem(["nonlinearities", 0, "law"], "stribeck"),
+           "nonlinearities[0].law", "stribeck")
+case_error("friction_alpha_for_exact", FRICTION, setitem(["nonlinearities", 0, "alpha"], 1),
+           "nonlinearities[0].alpha")
+case_error("friction_other_equals_dof", FRICTION, setitem(["nonlinearities", 0, "other"], 1),
+           "nonlinearities[0].other")
+case_error("contact_gap_not_finite", ROD, setitem(["nonlinearities", 0, "gap"], "wide"),
+           "nonlinearities[0].gap")
+case_error("contact_direction", ROD, setitem(["nonlinearities", 0, "direction"], 2),
+           "nonlinearities[0].direction")
+case_error("contact_epsilon_negative", ROD, setitem(["nonlinearities", 0, "epsilon"], -5),
+           "nonlinearities[0].epsilon")
+case_error("contact_gap_harmonic_outside_set", ROD,
+           setitem(["nonlinearities", 0, "gap"],
+                   {"constant": 2e-4, "harmonics": [{"harmonic": 50, "cos": 1e-5}]}),
+           "nonlinearities[0].gap")
+case_error("contact_obstacle_stiffness_zero", ROD,
+           setitem(["nonlinearities", 0, "obstacle_stiffness"], 0),
+           "nonlinearities[0].obstacle_stiffness")
+case_error("validation_omega_negative", DUFFING, setitem(["validation"], {"omega": [-1]}),
+           "validation.omega")
+case_error("validation_unknown_key", DUFFING, setitem(["validation"], {"omegas": [1]}),
+           "validation.omegas")
+
+# --- the command line -----------------------------------------------------------------------
+duffing = os.path.join(SRC, "cases", "duffing.json")
+rod = os.path.join(SRC, "cases", "rod", "rigid_nh20.json")
+out = os.path.join(WORK, "cli_out")
+command("no_command", [], EXIT_USAGE, "usage")
+command("unknown_command", ["frobnicate"], EXIT_USAGE, "frobnicate")
+command("out_without_value", ["run", duffing, "--out"], EXIT_USAGE, "--out")
+command("unknown_option", ["run", duffing, "--out", out, "--fast"], EXIT_USAGE, "--fast")
+command("two_case_files", ["run", duffing, duffing, "--out", out], EXIT_USAGE, "case file")
+command("validate_omega_not_number", ["validate", duffing, "--out", out, "--omega", "abc"],
+        EXIT_USAGE, "--omega")
+command("validate_start_sideways", ["validate", duffing, "--out", out, "--start", "sideways"],
+        EXIT_USAGE, "--start")
+command("validate_omega_negative", ["validate", duffing, "--out", out, "--omega", "-1"],
+        EXIT_USAGE, "--omega")
+command("refine_steps_1e20", ["refine", rod, "--out", out, "--omega", "6e4", "--epsilon0", "1e9",
+                              "--steps", "1e20"], EXIT_USAGE, "--steps")
+command("refine_factor_nan", ["refine", rod, "--out", out, "--omega", "6e4", "--epsilon0", "1e9",
+                              "--factor", "nan"], EXIT_USAGE, "--factor")
+command("refine_omega_missing", ["refine", rod, "--out", out], EXIT_USAGE, "--omega")
+command("plot_measure_volume", ["plot", out, "--measure", "volume"], EXIT_USAGE, "--measure")
+
+
+def run(name, argv, code, needles):
+    started = time.monotonic()
+    try:
+        result = subprocess.run([NFRC] + argv, capture_output=True, text=True, timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        return f"FAIL {name}: no answer within {TIMEOUT_S} s"
+    output = result.stdout + result.stderr
+    problems = []
+    if result.returncode < 0:
+        problems.append(f"killed by signal {-result.returncode}")
+    if result.returncode != code:
+        problems.append(f"exit {result.returncode}, want {code}")
+    for needle in needles:
+        if needle not in output:
+            problems.append(f"message lacks {needle!r}")
+    if "internal error" in output or "AddressSanitizer" in output or "runtime error" in output:
+        problems.append("sanitizer report or internal error")
+    took = time.monotonic() - started
+    if problems:
+        return f"FAIL {name} ({took:.1f} s): {'; '.join(problems)}\n     output: {output.strip()[:400]}"
+    return f"ok   {name} ({took:.1f} s)"
+
+
+def main():
+    assert len(CASES) >= 60, f"the catalogue needs at least 60 bad inputs, has {len(CASES)}"
+    failed = 0
+    for name, argv, code, needles in CASES:
+        line = run(name, argv, code, needles)
+        print(line, flush=True)
+        failed += line.startswith("FAIL")
+    print(f"{len(CASES) - failed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
