@@ -233,10 +233,10 @@ int Validate(const std::vector<std::string>& args) {
   }
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  const nlohmann::json document =
+  const nfrc::ValidationResult result =
       nfrc::RunValidation(the_case, settings, out_dir, &std::cerr, &std::cout, &g_stop, file.source);
   std::cerr << "nfrc: wrote " << out_dir << "/validation.json\n";
-  int status = nfrc::ValidationComplete(document) && !g_stop.load() ? kExitOk : kExitRunIncomplete;
+  int status = result.complete && !g_stop.load() ? kExitOk : kExitRunIncomplete;
   if (plot && RunPythonScript("plot_validation.py", {out_dir}) != 0) {
     std::cerr << "nfrc validate: plotting failed\n";
     if (status == kExitOk) status = kExitIoError;

@@ -2,13 +2,18 @@
 
 #include <doctest/doctest.h>
 
-#include "tools/case_file.h"
-#include "tools/validation_reader.h"
-
+#include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
 
+#include "tools/case_file.h"
 #include "tools/input_fields.h"
+#include "tools/validation_reader.h"
+#include "tools/validation_writer.h"
 
 namespace nfrc {
 namespace {
@@ -19,45 +24,87 @@ std::string OutDir(const std::string& name) {
   return dir.string();
 }
 
-// IDA runs at rtol 1e-10 and stops at a 1e-7 relative period-to-period change; H = 7 leaves a
-// truncation error of the Duffing response (0.1x³ with |x| ≲ 2.5) of about the 9th harmonic's
-// size, ~1e-7 relative. 1e-5 leaves two orders of margin and still catches any real mismatch.
-constexpr double kDuffingAgreement = 1e-5;
-
-TEST_CASE("validate: Duffing transients match the HBM branch and the middle solution is unstable") {
+TEST_CASE("validate: the writer records every run of a Duffing validation on disk") {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
   ValidationSettings settings;
-  // 0.8: one solution; 1.2: inside the folds at 1.116 and 1.270, three solutions.
-  settings.omegas = {0.8, 1.2};
-  const std::string dir = OutDir("duffing");
-  const nlohmann::json doc = RunValidation(the_case, settings, dir, nullptr, nullptr);
-  REQUIRE(doc["points"].size() == 2);
-  CHECK(ValidationComplete(doc));
+  settings.omegas = {1.2};  // inside the folds: three HBM solutions, three transients
+  settings.chirp.enabled = true;
+  settings.chirp.omega_start = 1.0;
+  settings.chirp.omega_end = 1.4;
+  settings.chirp.cycles = 50;  // short: only the files are checked here
+  settings.chirp.down = false;
+  const std::string dir = OutDir("writer");
+  std::ostringstream table;
+  const ValidationResult result = RunValidation(the_case, settings, dir, nullptr, &table);
+  CHECK(result.complete);
 
-  const nlohmann::json& single = doc["points"][0];
-  REQUIRE(single["hbm_solutions"].size() == 1);
-  REQUIRE(single["transients"].size() == 1);
-  const nlohmann::json& t = single["transient"];
-  CHECK(t["periodic"] == true);
-  CHECK(t["stayed"] == true);
-  CHECK(t["differences"]["h1"][0].get<double>() < kDuffingAgreement);
-  CHECK(t["differences"]["energy"].get<double>() < kDuffingAgreement);
-  CHECK(t["differences"]["rms"][0].get<double>() < kDuffingAgreement);
-  CHECK(std::filesystem::exists(dir + "/" + t["signals"].get<std::string>()));
-
-  const nlohmann::json& fold = doc["points"][1];
-  REQUIRE(fold["hbm_solutions"].size() == 3);
-  REQUIRE(fold["transients"].size() == 3);
-  int stayed = 0;
-  for (const nlohmann::json& run : fold["transients"]) {
-    REQUIRE(run["periodic"] == true);
-    CHECK(run["matches"] != "middle");  // a transient never settles on the saddle
-    if (run["stayed"] == true) {
-      ++stayed;
-      CHECK(run["differences"]["h1"][0].get<double>() < kDuffingAgreement);
-    }
+  std::ifstream in(dir + "/validation.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  CHECK(doc["branch"] == "hbm/branch.json");
+  CHECK(std::filesystem::exists(dir + "/hbm/branch.json"));
+  CHECK(doc["branch_summary"]["folds"] == 2);
+  REQUIRE(doc["points"].size() == 1);
+  const nlohmann::json& point = doc["points"][0];
+  REQUIRE(point["hbm_solutions"].size() == 3);
+  REQUIRE(point["transients"].size() == 3);
+  for (const nlohmann::json& run : point["transients"]) {
+    CHECK(run["periodic"] == true);
+    CHECK(std::filesystem::exists(dir + "/" + run["signals"].get<std::string>()));
   }
-  CHECK(stayed == 2);  // the lower and upper solutions are stable
+  CHECK(point["transient"]["stayed"] == true);
+  CHECK(point["hbm"]["branch"] == point["transient"]["matches"]);
+  REQUIRE(doc.contains("chirp"));
+  CHECK(doc["chirp"]["up"]["status"] == "completed");
+  CHECK(!doc["chirp"].contains("down"));
+  CHECK(std::filesystem::exists(dir + "/chirp_up.csv"));
+  // A header and a line per transient.
+  const std::string lines = table.str();
+  CHECK(lines.find("h1 transient") != std::string::npos);
+  CHECK(std::count(lines.begin(), lines.end(), '\n') == 4);
+}
+
+// Raises the stop flag once the first ω is written, as an interrupt would.
+class StopAfterFirstPoint : public ValidationWriter {
+ public:
+  StopAfterFirstPoint(std::string dir, const Case& the_case, const ValidationSettings& settings,
+                      std::atomic<bool>* stop)
+      : ValidationWriter(std::move(dir), the_case, settings, nullptr, nullptr), stop_(stop) {}
+  void OnPoint(const ValidationPoint& point) override {
+    ValidationWriter::OnPoint(point);
+    stop_->store(true);
+  }
+
+ private:
+  std::atomic<bool>* stop_;
+};
+
+TEST_CASE("validate: a run that stops keeps the frequencies done on disk") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
+  ValidationSettings settings;
+  settings.omegas = {0.8, 1.2};
+  const std::string dir = OutDir("stopped");
+  std::atomic<bool> stop{false};
+  StopAfterFirstPoint writer(dir, the_case, settings, &stop);
+  ValidationOptions options;
+  options.stop = &stop;
+  options.observer = &writer;
+  const ValidationResult result = ValidateCase(the_case, settings, options);
+  CHECK(result.points.size() == 1);
+  std::ifstream in(dir + "/validation.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  REQUIRE(doc["points"].size() == 1);
+  CHECK(doc["points"][0]["omega"] == 0.8);
+  CHECK(doc["points"][0]["transient"]["periodic"] == true);
+}
+
+TEST_CASE("validate: bad input writes nothing") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
+  ValidationSettings settings;
+  settings.omegas = {1.2};
+  settings.transient.samples_per_period = 8;  // cannot resolve harmonic 7
+  const std::string dir = OutDir("bad_input");
+  CHECK_THROWS_AS(RunValidation(the_case, settings, dir, nullptr, nullptr), InputError);
+  CHECK(!std::filesystem::exists(dir));
 }
 
 TEST_CASE("validate: settings name the bad field") {

@@ -1,0 +1,188 @@
+// Transient validation (ValidateCase) and the HBM solutions at one ω (SolveAt) on the Duffing
+// oscillator ẍ + 0.05ẋ + x + 0.1x³ = 0.18 cos ωt (cases/duffing.json, H = 7).
+#include "analysis/validate.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/solve_at.h"
+#include "tools/case_file.h"
+#include "validation/make_integrator.h"
+#include "validation/period_measures.h"
+
+namespace nfrc {
+namespace {
+
+constexpr double kC = 0.05, kK3 = 0.1, kF = 0.18;
+
+// IDA runs at rtol 1e-10 and stops at a 1e-7 relative period-to-period change; H = 7 leaves a
+// truncation error of the Duffing response (0.1x³ with |x| ≲ 2.5) of about the 9th harmonic's
+// size, ~1e-7 relative. 1e-5 leaves two orders of margin and still catches any real mismatch.
+constexpr double kDuffingAgreement = 1e-5;
+
+Case DuffingCase() { return LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json"); }
+
+TEST_CASE("validate: Duffing transients match the HBM branch and the middle solution is unstable") {
+  Case the_case = DuffingCase();
+  ValidationSettings settings;
+  // 0.8: one solution; 1.2: inside the folds at 1.116 and 1.270, three solutions.
+  settings.omegas = {0.8, 1.2};
+  const ValidationResult result = ValidateCase(the_case, settings);
+  REQUIRE(result.points.size() == 2);
+  CHECK(result.complete);
+
+  const ValidationPoint& single = result.points[0];
+  REQUIRE(single.solutions.size() == 1);
+  REQUIRE(single.transients.size() == 1);
+  REQUIRE(single.primary >= 0);
+  const TransientRun& t = single.transients[single.primary];
+  CHECK(t.result.periodic());
+  REQUIRE(t.comparison.has_value());
+  CHECK(t.comparison->stayed);
+  CHECK(t.comparison->h1[0] < kDuffingAgreement);
+  CHECK(t.comparison->energy < kDuffingAgreement);
+  CHECK(t.comparison->rms[0] < kDuffingAgreement);
+  CHECK(!t.comparison->overlay.columns.empty());
+
+  const ValidationPoint& fold = result.points[1];
+  REQUIRE(fold.solutions.size() == 3);
+  REQUIRE(fold.transients.size() == 3);
+  int stayed = 0;
+  for (const TransientRun& run : fold.transients) {
+    REQUIRE(run.result.periodic());
+    REQUIRE(run.comparison.has_value());
+    CHECK(run.comparison->label != "middle");  // a transient never settles on the saddle
+    if (run.comparison->stayed) {
+      ++stayed;
+      CHECK(run.comparison->h1[0] < kDuffingAgreement);
+    }
+  }
+  CHECK(stayed == 2);  // the lower and upper solutions are stable
+}
+
+// ‖harmonic balance residual‖ of the Duffing equation for coefficients c (HarmonicSet layout
+// of all harmonics 0..H) at ω, computed here from the equation on a grid of 256 samples,
+// which projects the cubic term (harmonics up to 3H = 21) exactly onto harmonics ≤ H = 7:
+// independent of the library's AFT. Largest projection, relative to the forcing amplitude.
+double DuffingBalanceDefect(const Eigen::VectorXd& c, int max_harmonic, double omega) {
+  constexpr int kSamples = 256;
+  Eigen::VectorXd residual(kSamples);
+  for (int j = 0; j < kSamples; ++j) {
+    const double theta = 2.0 * std::numbers::pi * j / kSamples;
+    double x = c(0), x_theta = 0.0, x_theta2 = 0.0;
+    for (int k = 1; k <= max_harmonic; ++k) {
+      const double a = c(2 * k - 1), b = c(2 * k);
+      x += a * std::cos(k * theta) + b * std::sin(k * theta);
+      x_theta += k * (-a * std::sin(k * theta) + b * std::cos(k * theta));
+      x_theta2 -= k * k * (a * std::cos(k * theta) + b * std::sin(k * theta));
+    }
+    residual(j) = omega * omega * x_theta2 + kC * omega * x_theta + x + kK3 * x * x * x -
+                  kF * std::cos(theta);
+  }
+  double worst = std::abs(residual.mean());
+  for (int k = 1; k <= max_harmonic; ++k) {
+    double cos_part = 0.0, sin_part = 0.0;
+    for (int j = 0; j < kSamples; ++j) {
+      const double theta = 2.0 * std::numbers::pi * j / kSamples;
+      cos_part += 2.0 / kSamples * residual(j) * std::cos(k * theta);
+      sin_part += 2.0 / kSamples * residual(j) * std::sin(k * theta);
+    }
+    worst = std::max({worst, std::abs(cos_part), std::abs(sin_part)});
+  }
+  return worst / kF;
+}
+
+TEST_CASE("solve at: Duffing at 1.2 has a lower, a middle and an upper solution") {
+  const Case the_case = DuffingCase();
+  constexpr double kOmega = 1.2;  // inside the folds at 1.116 and 1.270
+  const SolveAtResult result = SolveAt(the_case, kOmega);
+  REQUIRE(result.trace.branch.folds.size() == 2);
+  REQUIRE(result.solutions.size() == 3);
+
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
+  Eigen::VectorXd zero_residual;
+  system->Evaluate(Eigen::VectorXd::Zero(system->NumUnknowns()), kOmega, &zero_residual, nullptr,
+                   nullptr);
+  std::map<std::string, const CrossingSolution*> by_label;
+  for (const CrossingSolution& s : result.solutions) {
+    CAPTURE(s.label);
+    CHECK(s.converged);
+    CHECK(s.omega == kOmega);
+    by_label[s.label] = &s;
+    // The library's residual at the returned y, on a fresh system of the same case, against
+    // the scale the continuation measures it with (‖R(0, ω)‖, the forcing).
+    Eigen::VectorXd residual;
+    REQUIRE(system->Evaluate(s.y, kOmega, &residual, nullptr, nullptr));
+    CHECK(residual.norm() / zero_residual.norm() < the_case.continuation.residual_tolerance);
+    // The same equations written out here from the ODE.
+    REQUIRE(s.coefficients.rows() == 1);
+    REQUIRE(s.coefficients.cols() == the_case.harmonics.NumCoefficients());
+    CHECK(DuffingBalanceDefect(s.coefficients.row(0).transpose(), 7, kOmega) < 1e-8);
+    CHECK(s.signals.fine.columns.size() == 4);  // θ, t, x_0, v_0
+  }
+  REQUIRE(by_label.count("lower") == 1);
+  REQUIRE(by_label.count("middle") == 1);
+  REQUIRE(by_label.count("upper") == 1);
+  const auto h1 = [&](const std::string& label) {
+    return by_label[label]->signals.measures.response.h1[0];
+  };
+  CHECK(h1("lower") < h1("middle"));
+  CHECK(h1("middle") < h1("upper"));
+
+  // The stable ones against a time integration (IDA) started on them: the steady state it
+  // settles to has the same first harmonic.
+  TransientModel model = MakeTransientModel(the_case.model, the_case.laws);
+  const std::unique_ptr<TransientIntegrator> integrator =
+      MakeTransientIntegrator(model, TransientOptions{});
+  for (const std::string label : {"lower", "upper"}) {
+    CAPTURE(label);
+    const SignalTable& fine = by_label[label]->signals.fine;
+    InitialState start;  // x and v at θ = 0, the fine signals' first samples
+    start.x = Eigen::VectorXd::Constant(1, fine.columns[2](0));
+    start.v = Eigen::VectorXd::Constant(1, fine.columns[3](0));
+    const TransientResult run = integrator->RunToSteadyState(kOmega, start);
+    REQUIRE(run.periodic());
+    const double transient_h1 = MeasurePeriod(run.last_period, {0}).h1[0];
+    CHECK(std::abs(transient_h1 - h1(label)) / h1(label) < kDuffingAgreement);
+  }
+}
+
+TEST_CASE("solve at: with one harmonic the amplitudes are the roots of the amplitude equation") {
+  // One-harmonic balance: ((1 − ω²) + ¾k₃A²)²A² + (cωA)² = F², a cubic in A² with three
+  // positive roots at ω = 1.2 (found by bisection on the three brackets of its sign).
+  Case the_case = DuffingCase();
+  the_case.harmonics = HarmonicSet(1, false);
+  constexpr double kOmega = 1.2;
+  const auto g = [&](double a2) {
+    const double d = 1 - kOmega * kOmega + 0.75 * kK3 * a2;
+    return d * d * a2 + kC * kC * kOmega * kOmega * a2 - kF * kF;
+  };
+  std::vector<double> roots;
+  for (const auto& [low0, high0] : {std::pair{0.0, 1.0}, {1.0, 5.5}, {5.5, 10.0}}) {
+    double low = low0, high = high0;
+    REQUIRE(g(low) * g(high) < 0);
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (low + high);
+      (g(low) * g(mid) <= 0 ? high : low) = mid;
+    }
+    roots.push_back(std::sqrt(0.5 * (low + high)));
+  }
+  const SolveAtResult result = SolveAt(the_case, kOmega);
+  REQUIRE(result.solutions.size() == 3);
+  for (const CrossingSolution& s : result.solutions) {
+    const int rank = s.label == "lower" ? 0 : s.label == "middle" ? 1 : 2;
+    CAPTURE(s.label);
+    CHECK(std::abs(s.signals.measures.response.h1[0] - roots[rank]) / roots[rank] < 1e-8);
+  }
+}
+
+}  // namespace
+}  // namespace nfrc
