@@ -59,6 +59,13 @@ class DlftContact : public Nonlinearity {
   }
   // For ε-refinement: sets ε (N/m, > 0) for later evaluations.
   void set_epsilon(double epsilon);
+  // Gap (m) and contact force before truncation (N) on the N_t samples and the truncated
+  // force's coefficients at solution y: the typed form of RawSamples, for comparisons with
+  // LCP-HBM on the same samples (ε-refinement) without looking signals up by name.
+  ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                     double omega) const {
+    return PredictAt(ctx, y, omega).state;
+  }
   const ContactGeometry& geometry() const { return spec_.geometry; }
   double obstacle_stiffness() const { return spec_.obstacle_stiffness; }
 

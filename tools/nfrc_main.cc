@@ -12,7 +12,7 @@
 
 #include "core/errors.h"
 #include "tools/case_file.h"
-#include "tools/epsilon_refinement.h"
+#include "tools/refinement_writer.h"
 #include "tools/run_case.h"
 #include "tools/validate.h"
 #include "tools/version.h"
@@ -147,11 +147,14 @@ int Refine(const std::vector<std::string>& args) {
     }
     options.epsilons = nfrc::GeometricEpsilons(*epsilon0, factor, steps);
   }
-  const nlohmann::json result =
-      nfrc::RefineEpsilon(the_case, options, out_dir, &std::cerr, file.source);
-  const auto& done = result["steps"];
-  const bool complete = done.size() == options.epsilons.size() &&
-                        (done.empty() || done.back()["converged"].get<bool>());
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const nfrc::RefinementResult result =
+      nfrc::RunRefinement(the_case, options, out_dir, &std::cerr, &g_stop, file.source);
+  const auto& done = result.steps;
+  const bool complete = !result.interrupted && done.size() == options.epsilons.size() &&
+                        (done.empty() || done.back().converged);
+  if (!result.message.empty()) std::cerr << "nfrc: " << result.message << "\n";
   std::cerr << "nfrc: " << done.size() << " of " << options.epsilons.size()
             << " refinement steps, wrote " << out_dir << "/refinement.json\n";
   return complete ? kExitOk : kExitRunIncomplete;

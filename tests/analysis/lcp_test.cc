@@ -1,6 +1,7 @@
 // LCP-HBM acceptance: Lemke's solution of the rod against the harmonic equations, against
-// semismooth Newton on the same equations, against DLFT as ε grows, and the stepping
-// driver's marking of trivial points where a contact solution coexists.
+// semismooth Newton on the same equations, and the stepping driver's marking of trivial
+// points where a contact solution coexists. DLFT's ε-refinement towards it:
+// refinement_test.cc.
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
@@ -12,7 +13,6 @@
 
 #include "continuation/fixed_lambda.h"
 #include "tools/input_fields.h"
-#include "tools/epsilon_refinement.h"
 #include "analysis/lcp_hbm.h"
 #include "analysis/trace.h"
 #include "analysis/trace.h"
@@ -168,32 +168,6 @@ TEST_CASE("LCP-HBM: the arclength branch passes the folds and stepping marks the
   MESSAGE("coexisting contact at " << coexisting << " stepping points, " << between_folds
                                    << " between the folds " << return_fold << " and " << jump);
   CHECK(between_folds > 0);
-}
-
-TEST_CASE("LCP-HBM: DLFT's ε-refinement converges to Lemke's solution") {
-  Case the_case = RodCase(RodSource(8, 64, "dlft_contact"));
-  RefinementOptions options;
-  options.omega = kOmega0;
-  options.epsilons = GeometricEpsilons(1e11, 2.0, 8);
-  const std::string dir = TempDir("refine");
-  const nlohmann::json result = RefineEpsilon(the_case, options, dir, nullptr);
-  REQUIRE(result.contains("lcp"));
-  REQUIRE(result["steps"].size() == options.epsilons.size());
-  std::vector<double> force, displacement, gap;
-  for (const nlohmann::json& step : result["steps"]) {
-    REQUIRE(step["converged"].get<bool>());
-    force.push_back(step["distance_to_lcp"]["force"].get<double>());
-    displacement.push_back(step["distance_to_lcp"]["displacement"].get<double>());
-    gap.push_back(step["distance_to_lcp"]["gap"].get<double>());
-  }
-  MESSAGE("force " << force.front() << " -> " << force.back() << ", displacement "
-                   << displacement.front() << " -> " << displacement.back());
-  for (size_t i = 1; i < force.size(); ++i) {
-    CHECK(force[i] < force[i - 1]);
-    CHECK(displacement[i] < displacement[i - 1]);
-  }
-  // Doubling ε eight times shrinks the O(1/ε) gap violation 2⁸-fold; ask for 10×.
-  CHECK(displacement.back() < displacement.front() / 10.0);
 }
 
 TEST_CASE("LCP-HBM: input errors name the field") {
