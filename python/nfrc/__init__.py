@@ -1,0 +1,211 @@
+"""nfrc: nonlinear frequency response curves of structures with friction and contact.
+
+Harmonic balance with pseudo-arclength continuation, over the C++ library. A Case comes from
+a case file (load_case) or from a dict with the case-file schema (Case.from_dict, numpy
+arrays allowed); its fields can be read and changed, each change validated (InputError names
+the field). Analyses: trace (the branch) and solve_at (every solution at one omega). They
+run without the GIL; Ctrl-C stops them and raises Interrupted carrying the partial branch.
+numpy is needed for matrices and results, not to import the package.
+"""
+
+import collections.abc
+import contextlib
+import json
+import os
+
+from . import _nfrc
+from ._nfrc import (Branch, Case, CoulombFriction, CubicSpring, DlftContact, Fold, Forcing,
+                    HarmonicSet, InputError, LcpContact, PenaltyContact, PolynomialSpring,
+                    Solution, Summary, __version__)
+
+__all__ = ["Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact", "Fold", "Forcing",
+           "HarmonicSet", "InputError", "Interrupted", "LcpContact", "PenaltyContact",
+           "PolynomialSpring", "Solution", "Summary", "load_case", "solve_at", "trace",
+           "__version__"]
+
+LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, PenaltyContact, DlftContact, LcpContact)
+
+for _cls in LAWS + (Branch, Case, Fold, Forcing, HarmonicSet, InputError, Solution, Summary):
+    _cls.__module__ = __name__
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C stopped an analysis; `branch` holds the points computed until then."""
+
+    def __init__(self, branch):
+        super().__init__(f"interrupted after {branch.points} points")
+        self.branch = branch
+
+
+# Laws and forcing terms are small value classes: fields, repr, equality and copies come
+# from their `_fields` (the constructor's keyword arguments).
+def _fields(value):
+    return {name: getattr(value, name) for name in type(value)._fields}
+
+
+def _value_repr(self):
+    args = ", ".join(f"{name}={v!r}" for name, v in _fields(self).items())
+    return f"{type(self).__name__}({args})"
+
+
+def _value_eq(self, other):
+    return type(self) is type(other) and _fields(self) == _fields(other)
+
+
+def _value_copy(self, memo=None):
+    return type(self)(**_fields(self))
+
+
+for _cls in LAWS + (Forcing,):
+    _cls.__repr__ = _value_repr
+    _cls.__eq__ = _value_eq
+    _cls.__hash__ = None
+    _cls.__copy__ = _value_copy
+    _cls.__deepcopy__ = _value_copy
+    _cls.copy = _value_copy
+
+
+class _CaseList(collections.abc.MutableSequence):
+    """A case's laws or forcing terms. Items are copies: change one and assign it back
+    (case.laws[0] = law); every assignment validates the case."""
+
+    def __init__(self, case, attribute):
+        self._case = case
+        self._attribute = attribute
+
+    def _items(self):
+        return getattr(self._case, self._attribute)
+
+    def _assign(self, items):
+        setattr(self._case, self._attribute, items)
+
+    def __len__(self):
+        return len(self._items())
+
+    def __getitem__(self, index):
+        return self._items()[index]
+
+    def __setitem__(self, index, value):
+        items = self._items()
+        items[index] = value
+        self._assign(items)
+
+    def __delitem__(self, index):
+        items = self._items()
+        del items[index]
+        self._assign(items)
+
+    def insert(self, index, value):
+        items = self._items()
+        items.insert(index, value)
+        self._assign(items)
+
+    def __eq__(self, other):
+        return list(self) == list(other)
+
+    def __repr__(self):
+        return repr(self._items())
+
+
+class _Continuation:
+    """A case's continuation options under their case-file names (omega_start, omega_end,
+    step, min_step, max_step, max_points, ...). Setting one validates the case; update()
+    sets several at once."""
+
+    __slots__ = ("_case",)
+
+    def __init__(self, case):
+        object.__setattr__(self, "_case", case)
+
+    def __getattr__(self, name):
+        options = self._case._continuation()
+        if name not in options:
+            raise AttributeError(f"no continuation option {name!r} (known: {', '.join(options)})")
+        return options[name]
+
+    def __setattr__(self, name, value):
+        self._case._set_continuation({name: value})
+
+    def update(self, **options):
+        self._case._set_continuation(options)
+
+    def to_dict(self):
+        return self._case._continuation()
+
+    def __dir__(self):
+        return list(self._case._continuation()) + ["update", "to_dict"]
+
+    def __repr__(self):
+        return f"Continuation({self._case._continuation()})"
+
+
+def _plain(value):
+    """numpy arrays and scalars to lists and numbers (recursively), for json."""
+    if isinstance(value, dict):
+        return {str(key): _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if hasattr(value, "tolist"):  # numpy arrays and scalars, without importing numpy
+        return _plain(value.tolist())
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
+def _from_dict(cls, source, base_dir=None):
+    """A case from a dict with the case-file schema; Matrix Market paths are relative to
+    base_dir (default: the current directory)."""
+    try:
+        text = json.dumps(_plain(source), allow_nan=False)
+    except ValueError as error:
+        raise InputError(f"case: {error} (NaN and infinity are not valid)") from None
+    except TypeError as error:
+        raise InputError(f"case: {error}") from None
+    return cls._from_json(text, os.fspath(base_dir) if base_dir is not None else os.getcwd())
+
+
+@contextlib.contextmanager
+def _edit(self):
+    """Batches changes: the case is validated once when the block ends (so a model can
+    change size with its laws); on any error it is left as before the block."""
+    self._begin_edit()
+    try:
+        yield self
+    except BaseException:
+        self._end_edit(False)
+        raise
+    self._end_edit(True)
+
+
+Case.from_dict = classmethod(_from_dict)
+Case.edit = _edit
+Case.laws = property(lambda self: _CaseList(self, "_laws"),
+                     lambda self, laws: setattr(self, "_laws", list(laws)),
+                     doc="The laws (CubicSpring, CoulombFriction, ...), as copies.")
+Case.forcing = property(lambda self: _CaseList(self, "_forcing"),
+                        lambda self, terms: setattr(self, "_forcing", list(terms)),
+                        doc="The forcing terms (Forcing), as copies.")
+Case.continuation = property(_Continuation,
+                             lambda self, options: self._set_continuation(dict(options)),
+                             doc="The continuation options (case-file names).")
+
+
+def load_case(path):
+    """Reads a case file (JSON, see the README)."""
+    return Case._load(os.fspath(path))
+
+
+def trace(case, progress=False):
+    """Traces the branch of `case`; progress=True prints a line per point on stderr."""
+    branch = _nfrc._trace(case, bool(progress))
+    if branch.interrupted:
+        raise Interrupted(branch)
+    return branch
+
+
+def solve_at(case, omega, progress=False):
+    """Every solution of the case's branch at `omega` (one per crossing, across folds)."""
+    solutions, branch = _nfrc._solve_at(case, float(omega), bool(progress))
+    if branch.interrupted:
+        raise Interrupted(branch)
+    return solutions
