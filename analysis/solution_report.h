@@ -31,7 +31,9 @@ struct SignalTable {
 // on the solver's N_t samples before truncation.
 struct SolutionSignals {
   double omega = 0.0;
-  int after_point = 0;  // index of the branch point that ends the crossed segment
+  // Index of the branch point the solution follows: the start of the crossed segment, or the
+  // point itself when it sits exactly at ω (as branch.json's signals record it).
+  int after_point = 0;
   bool converged = true;
   std::string note;  // the solver's message
   Eigen::VectorXd y;

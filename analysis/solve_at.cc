@@ -94,6 +94,12 @@ SolveAtResult SolveAt(const Case& the_case, double omega, const TraceOptions& op
         "between its points), not \"" +
         std::string(ToString(the_case.method)) + "\"");
   }
+  const ContinuationOptions& range = the_case.continuation;
+  if (!(omega >= range.LowerBound() && omega <= range.UpperBound())) {
+    throw InputError("omega: " + std::to_string(omega) + " is outside the case's range [" +
+                     std::to_string(range.LowerBound()) + ", " +
+                     std::to_string(range.UpperBound()) + "]");
+  }
   SolveAtResult result;
   result.trace = TraceCase(the_case, options);
   std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);

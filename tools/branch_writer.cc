@@ -97,14 +97,13 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
   if (error)
-    throw std::runtime_error(dir_ + ": cannot create output directory: " + error.message());
-  csv_.open(dir_ + "/branch.csv");
-  if (!csv_) throw std::runtime_error(dir_ + "/branch.csv: cannot open for writing");
+    throw OutputError(dir_ + ": cannot create output directory: " + error.message());
+  csv_.Open(dir_ + "/branch.csv");
   csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega,energy";
   for (const std::string& name : case_.output_names) csv_ << ",max_abs_" << name;
   for (const std::string& name : case_.output_names) csv_ << ",h1_" << name;
-  csv_ << "\n" << std::flush;
-  csv_ << std::setprecision(12);
+  csv_ << "\n";
+  csv_.Flush();
 
   const HarmonicSet& set = case_.harmonics;
   document_ = {{"program", "nfrc"},
@@ -157,8 +156,8 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
        << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
-  csv_ << '\n' << std::flush;
-  if (!csv_) throw std::runtime_error(dir_ + "/branch.csv: write failed");
+  csv_ << '\n';
+  csv_.Flush();
   // Large documents are rewritten less often, so that writing stays a small share of the run.
   const auto interval =
       std::max<std::chrono::steady_clock::duration>(kJsonInterval, 10 * last_json_duration_);
@@ -207,6 +206,7 @@ void BranchWriter::OnFold(const TraceFold& record) {
 void BranchWriter::Finish(const ContinuationSummary& summary) {
   document_["summary"] = SummaryToJson(summary);
   WriteJson();
+  csv_.Close();
 }
 
 void BranchWriter::WriteJson() {

@@ -7,6 +7,7 @@
 
 #include "analysis/case.h"
 #include "analysis/trace.h"
+#include "tools/output_files.h"
 
 namespace nfrc {
 
@@ -38,7 +39,7 @@ class BranchWriter : public TraceObserver {
 
   std::string dir_;
   const Case& case_;
-  std::ofstream csv_;
+  CsvStream csv_;  // 12 significant digits
   nlohmann::json document_;
   std::chrono::steady_clock::time_point last_json_write_;
   std::chrono::steady_clock::duration last_json_duration_{};

@@ -19,18 +19,24 @@ HarmonicSet ReadHarmonics(const nlohmann::json& spec, int num_dofs) {
   fields.Finish();
   if (max_harmonic < 1)
     fields.Fail("max", "must be at least 1, got " + std::to_string(max_harmonic));
-  if (fields.Has("samples") && samples < 2 * max_harmonic + 1) {
-    fields.Fail("samples", "must be at least 2*max+1 = " + std::to_string(2 * max_harmonic + 1) +
-                               ", got " + std::to_string(samples));
-  }
-  // Refuse what cannot fit before the harmonic set and its transforms are allocated.
+  // Refuse what cannot fit before the harmonic set and its transforms are allocated (and
+  // before 2H + 1 could overflow an int).
   ProblemDimensions dimensions;
   dimensions.num_dofs = num_dofs;
   dimensions.max_harmonic = max_harmonic;
   dimensions.odd_only = odd_only;
   dimensions.samples = samples;
   CheckProblemSize(dimensions);
-  return HarmonicSet(max_harmonic, odd_only, samples);
+  const long long least = 2LL * max_harmonic + 1;
+  if (fields.Has("samples") && samples < least) {
+    fields.Fail("samples", "must be at least 2*max+1 = " + std::to_string(least) + ", got " +
+                               std::to_string(samples));
+  }
+  try {
+    return HarmonicSet(max_harmonic, odd_only, samples);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(std::string("harmonics: ") + error.what());
+  }
 }
 
 ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {

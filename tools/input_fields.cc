@@ -56,6 +56,10 @@ double InputFields::OptionalNumber(const std::string& key, double fallback) {
 int InputFields::RequiredInt(const std::string& key) {
   const nlohmann::json& value = Get(key);
   if (!value.is_number_integer()) Fail(key, "expected an integer, got " + Describe(value));
+  // An unsigned value above the int64 range would wrap to a negative one.
+  if (value.is_number_unsigned() && value.get<unsigned long long>() > 2147483647ULL) {
+    Fail(key, "integer out of range");
+  }
   const auto number = value.get<long long>();
   if (number < -2147483647LL || number > 2147483647LL) Fail(key, "integer out of range");
   return static_cast<int>(number);
@@ -111,6 +115,10 @@ void InputFields::Finish() const {
 int ResolveDof(const nlohmann::json& value, const LinearModel& model, const std::string& where) {
   const int num_dofs = model.num_dofs();
   if (value.is_number_integer()) {
+    if (value.is_number_unsigned() && value.get<unsigned long long>() > 2147483647ULL) {
+      throw InputError(where + ": DOF " + value.dump() + " out of range 0.." +
+                       std::to_string(num_dofs - 1));
+    }
     const auto index = value.get<long long>();
     if (index < 0 || index >= num_dofs) {
       throw InputError(where + ": DOF " + std::to_string(index) + " out of range 0.." +

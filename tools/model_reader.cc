@@ -1,5 +1,7 @@
 #include "tools/model_reader.h"
 
+#include "analysis/case.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -155,6 +157,15 @@ ModelDefinition BuildRodModel(InputFields& fields, const std::string& /*base_dir
   parameters.area = fields.RequiredNumber("area");
   parameters.young = fields.RequiredNumber("young");
   parameters.density = fields.RequiredNumber("density");
+  // A rod too large to trace even with one harmonic is refused before it is built.
+  ProblemDimensions dimensions;
+  dimensions.num_dofs = parameters.elements;
+  try {
+    CheckProblemSize(dimensions);
+  } catch (const InputError& error) {
+    throw InputError(fields.path() + ".elements: " + std::to_string(parameters.elements) +
+                     " elements: " + error.what());
+  }
   ModelDefinition definition;
   try {
     definition.model = BuildRod(parameters);

@@ -1,19 +1,20 @@
 // The nfrc command line program: `nfrc run CASE.json --out DIR`, `nfrc refine ...`,
-// `nfrc validate ...` and `nfrc plot DIR`.
-#include <atomic>
-#include <csignal>
+// `nfrc validate ...` and `nfrc plot DIR`: readers → analysis → writers, and the exit codes.
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/errors.h"
 #include "tools/case_file.h"
+#include "tools/command_line.h"
+#include "tools/output_files.h"
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
+#include "tools/stop_signal.h"
 #include "tools/validate.h"
 #include "tools/version.h"
 
@@ -25,10 +26,7 @@ constexpr int kExitInputError = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitRunIncomplete = 3;
 constexpr int kExitIoError = 4;
-
-std::atomic<bool> g_stop{false};
-
-void OnSignal(int) { g_stop.store(true); }
+constexpr int kExitInternalError = 5;
 
 constexpr const char* kUsage =
     "usage:\n"
@@ -41,94 +39,59 @@ constexpr const char* kUsage =
     "              [--no-plot]\n"
     "                                 integrate the model in time to steady state at each W\n"
     "                                 and compare with the HBM branch (DIR/validation.json)\n"
-    "  nfrc plot DIR                  draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
+    "  nfrc plot DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output BASE]\n"
+    "              [--labels A,B] [--xlim MIN,MAX] [--title TEXT]\n"
+    "                                 draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
     "  nfrc --version\n";
 
-int Run(const std::vector<std::string>& args) {
+// The one case file of a command that needs one, and --out.
+struct CaseAndOut {
   std::string case_path;
   std::string out_dir;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--out" && i + 1 < args.size()) {
-      out_dir = args[++i];
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      std::cerr << "nfrc run: unknown option " << args[i] << "\n" << kUsage;
-      return kExitUsage;
-    } else if (case_path.empty()) {
-      case_path = args[i];
-    } else {
-      std::cerr << "nfrc run: more than one case file given\n" << kUsage;
-      return kExitUsage;
-    }
-  }
-  if (case_path.empty() || out_dir.empty()) {
-    std::cerr << "nfrc run: needs a case file and --out DIR\n" << kUsage;
-    return kExitUsage;
-  }
-  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+};
+
+CaseAndOut RequireCaseAndOut(const nfrc::CommandLine& line) {
+  if (line.positionals().size() > 1) throw line.Error("more than one case file given");
+  const std::optional<std::string> out = line.Value("--out");
+  if (line.positionals().empty() || !out) throw line.Error("needs a case file and --out DIR");
+  if (out->empty()) throw line.Error("--out: empty directory name");
+  return {line.positionals()[0], *out};
+}
+
+int Run(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
+  const nfrc::CommandLine line("run", args, {nfrc::OptionSpec::Value("--out")});
+  const CaseAndOut io = RequireCaseAndOut(line);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
   const nfrc::Branch branch =
-      nfrc::RunCase(file.the_case, out_dir, &std::cerr, &g_stop, file.source);
+      nfrc::RunCase(file.the_case, io.out_dir, &std::cerr, &stop.flag(), file.source);
   const auto& summary = branch.summary;
   std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
             << "nfrc: " << summary.num_points << " points, " << summary.num_folds
-            << " folds, wrote " << out_dir << "/branch.json and branch.csv\n";
+            << " folds, wrote " << io.out_dir << "/branch.json and branch.csv\n";
   const bool complete = summary.success() || summary.reason == nfrc::TerminationReason::kMaxPoints;
-  return complete ? kExitOk : kExitRunIncomplete;
+  return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
-// Parses a number of option `name`; throws InputError naming it.
-double NumberOption(const std::string& name, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  throw nfrc::InputError(name + ": not a number: \"" + text + "\"");
-}
+int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
+  using nfrc::NumberDomain;
+  using nfrc::OptionSpec;
+  const nfrc::CommandLine line(
+      "refine", args,
+      {OptionSpec::Value("--out"), OptionSpec::Value("--omega"), OptionSpec::Value("--epsilon0"),
+       OptionSpec::Value("--factor"), OptionSpec::Value("--steps"),
+       OptionSpec::Value("--epsilons")});
+  const CaseAndOut io = RequireCaseAndOut(line);
+  const std::optional<double> omega = line.Number("--omega", NumberDomain::kPositive);
+  if (!omega) throw line.Error("needs --omega W (rad per time unit)");
+  std::optional<double> epsilon0 = line.Number("--epsilon0", NumberDomain::kPositive);
+  const double factor = line.Number("--factor", NumberDomain::kPositive).value_or(2.0);
+  if (!(factor > 1.0)) throw line.Error("--factor: must be > 1");
+  // 60 doublings take ε over 18 orders of magnitude: more is not a refinement.
+  const int steps = line.Int("--steps", 0, 60).value_or(15);
+  const std::vector<double> list = line.NumberList("--epsilons", NumberDomain::kPositive);
 
-int Refine(const std::vector<std::string>& args) {
-  std::string case_path;
-  std::string out_dir;
-  std::optional<double> omega;
-  std::optional<double> epsilon0;
-  double factor = 2.0;
-  int steps = 15;
-  std::vector<double> list;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (arg == "--out" && has_value) {
-      out_dir = args[++i];
-    } else if (arg == "--omega" && has_value) {
-      omega = NumberOption("--omega", args[++i]);
-    } else if (arg == "--epsilon0" && has_value) {
-      epsilon0 = NumberOption("--epsilon0", args[++i]);
-    } else if (arg == "--factor" && has_value) {
-      factor = NumberOption("--factor", args[++i]);
-    } else if (arg == "--steps" && has_value) {
-      steps = static_cast<int>(NumberOption("--steps", args[++i]));
-    } else if (arg == "--epsilons" && has_value) {
-      std::stringstream items(args[++i]);
-      for (std::string item; std::getline(items, item, ',');) {
-        list.push_back(NumberOption("--epsilons", item));
-      }
-    } else if (!arg.empty() && arg[0] == '-') {
-      std::cerr << "nfrc refine: unknown option or missing value: " << arg << "\n" << kUsage;
-      return kExitUsage;
-    } else if (case_path.empty()) {
-      case_path = arg;
-    } else {
-      std::cerr << "nfrc refine: more than one case file given\n" << kUsage;
-      return kExitUsage;
-    }
-  }
-  if (case_path.empty() || out_dir.empty() || !omega) {
-    std::cerr << "nfrc refine: needs a case file, --omega and --out DIR\n" << kUsage;
-    return kExitUsage;
-  }
-  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
   nfrc::RefinementOptions options;
   options.omega = *omega;
@@ -141,22 +104,18 @@ int Refine(const std::vector<std::string>& args) {
         if (dlft != nullptr && dlft->contact.epsilon > 0.0) epsilon0 = dlft->contact.epsilon;
       }
     }
-    if (!epsilon0) {
-      std::cerr << "nfrc refine: give --epsilon0 or --epsilons (the case sets no epsilon)\n";
-      return kExitUsage;
-    }
+    if (!epsilon0) throw line.Error("give --epsilon0 or --epsilons (the case sets no epsilon)");
     options.epsilons = nfrc::GeometricEpsilons(*epsilon0, factor, steps);
   }
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
   const nfrc::RefinementResult result =
-      nfrc::RunRefinement(the_case, options, out_dir, &std::cerr, &g_stop, file.source);
+      nfrc::RunRefinement(the_case, options, io.out_dir, &std::cerr, &stop.flag(), file.source);
   const auto& done = result.steps;
   const bool complete = !result.interrupted && done.size() == options.epsilons.size() &&
                         (done.empty() || done.back().converged);
   if (!result.message.empty()) std::cerr << "nfrc: " << result.message << "\n";
   std::cerr << "nfrc: " << done.size() << " of " << options.epsilons.size()
-            << " refinement steps, wrote " << out_dir << "/refinement.json\n";
+            << " refinement steps, wrote " << io.out_dir << "/refinement.json\n";
   return complete ? kExitOk : kExitRunIncomplete;
 }
 
@@ -167,84 +126,92 @@ int RunPythonScript(const std::string& script, const std::vector<std::string>& a
   const std::string python =
       std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   std::string command = python + " '" + path + "'";
-  for (const std::string& arg : args) command += " '" + arg + "'";
+  for (const std::string& arg : args) {
+    // Single quotes protect everything but a single quote, which closes, escapes and reopens.
+    std::string quoted;
+    for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    command += " '" + quoted + "'";
+  }
   return std::system(command.c_str());
 }
 
 int Plot(const std::vector<std::string>& args) {
-  if (args.empty()) {
-    std::cerr << "nfrc plot: needs an output directory\n" << kUsage;
-    return kExitUsage;
+  using nfrc::OptionSpec;
+  const nfrc::CommandLine line(
+      "plot", args,
+      {OptionSpec::Value("--measure"), OptionSpec::Flag("--logy"), OptionSpec::Value("--output"),
+       OptionSpec::Value("--labels"), OptionSpec::Value("--xlim"), OptionSpec::Value("--title")});
+  if (line.positionals().empty()) throw line.Error("needs an output directory");
+  std::vector<std::string> script_args = line.positionals();
+  if (const auto measure = line.Choice("--measure", {"max_abs", "min", "max", "h1", "energy"})) {
+    script_args.insert(script_args.end(), {"--measure", *measure});
   }
-  return RunPythonScript("plot_frc.py", args) == 0 ? kExitOk : kExitIoError;
-}
-
-int Validate(const std::vector<std::string>& args) {
-  std::string case_path;
-  std::string out_dir;
-  std::vector<double> omegas;
-  std::string start;
-  bool chirp = true;
-  bool plot = true;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (arg == "--out" && has_value) {
-      out_dir = args[++i];
-    } else if (arg == "--omega" && has_value) {
-      std::stringstream items(args[++i]);
-      for (std::string item; std::getline(items, item, ',');) {
-        omegas.push_back(NumberOption("--omega", item));
-        if (!(omegas.back() > 0.0)) throw nfrc::InputError("--omega: frequencies must be positive");
-      }
-    } else if (arg == "--start" && has_value) {
-      start = args[++i];
-    } else if (arg == "--no-chirp") {
-      chirp = false;
-    } else if (arg == "--no-plot") {
-      plot = false;
-    } else if (!arg.empty() && arg[0] == '-') {
-      std::cerr << "nfrc validate: unknown option or missing value: " << arg << "\n" << kUsage;
-      return kExitUsage;
-    } else if (case_path.empty()) {
-      case_path = arg;
-    } else {
-      std::cerr << "nfrc validate: more than one case file given\n" << kUsage;
-      return kExitUsage;
+  if (line.Flag("--logy")) script_args.push_back("--logy");
+  for (const char* option : {"--output", "--labels", "--title"}) {
+    if (const auto value = line.Value(option)) script_args.insert(script_args.end(), {option, *value});
+  }
+  if (const auto xlim = line.Value("--xlim")) {
+    const std::vector<double> range = line.NumberList("--xlim");
+    if (range.size() != 2 || !(range[0] < range[1])) throw line.Error("--xlim: expected MIN,MAX");
+    script_args.insert(script_args.end(), {"--xlim", *xlim});
+  }
+  for (const std::string& dir : line.positionals()) {
+    if (!std::filesystem::is_regular_file(dir + "/branch.json")) {
+      throw nfrc::InputError(dir + "/branch.json: no branch to plot (run nfrc run first)");
     }
   }
-  if (case_path.empty() || out_dir.empty()) {
-    std::cerr << "nfrc validate: needs a case file and --out DIR\n" << kUsage;
-    return kExitUsage;
-  }
-  const nfrc::CaseFile file = nfrc::ReadCaseFile(case_path);
+  return RunPythonScript("plot_frc.py", script_args) == 0 ? kExitOk : kExitIoError;
+}
+
+int Validate(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
+  using nfrc::NumberDomain;
+  using nfrc::OptionSpec;
+  const nfrc::CommandLine line(
+      "validate", args,
+      {OptionSpec::Value("--out"), OptionSpec::Value("--omega"), OptionSpec::Value("--start"),
+       OptionSpec::Flag("--no-chirp"), OptionSpec::Flag("--no-plot")});
+  const CaseAndOut io = RequireCaseAndOut(line);
+  const std::vector<double> omegas = line.NumberList("--omega", NumberDomain::kPositive);
+  const std::optional<std::string> start = line.Choice("--start", {"hbm", "rest"});
+
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
   nfrc::ValidationSettings settings = the_case.validation;
   if (!omegas.empty()) settings.omegas = omegas;
-  if (start == "rest") {
-    settings.start = nfrc::ValidationSettings::Start::kRest;
-  } else if (start == "hbm") {
-    settings.start = nfrc::ValidationSettings::Start::kHbm;
-  } else if (!start.empty()) {
-    throw nfrc::InputError("--start: expected hbm or rest, got \"" + start + "\"");
+  if (start) {
+    settings.start = *start == "rest" ? nfrc::ValidationSettings::Start::kRest
+                                      : nfrc::ValidationSettings::Start::kHbm;
   }
-  if (!chirp) settings.chirp.enabled = false;
+  if (line.Flag("--no-chirp")) settings.chirp.enabled = false;
   if (settings.omegas.empty() && !settings.chirp.enabled) {
     throw nfrc::InputError(
         "--omega: no frequencies to validate (give --omega or the case's "
         "validation.omega)");
   }
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
-  const nfrc::ValidationResult result =
-      nfrc::RunValidation(the_case, settings, out_dir, &std::cerr, &std::cout, &g_stop, file.source);
-  std::cerr << "nfrc: wrote " << out_dir << "/validation.json\n";
-  int status = result.complete && !g_stop.load() ? kExitOk : kExitRunIncomplete;
-  if (plot && RunPythonScript("plot_validation.py", {out_dir}) != 0) {
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  const nfrc::ValidationResult result = nfrc::RunValidation(
+      the_case, settings, io.out_dir, &std::cerr, &std::cout, &stop.flag(), file.source);
+  std::cerr << "nfrc: wrote " << io.out_dir << "/validation.json\n";
+  int status = result.complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
+  if (!line.Flag("--no-plot") && RunPythonScript("plot_validation.py", {io.out_dir}) != 0) {
     std::cerr << "nfrc validate: plotting failed\n";
     if (status == kExitOk) status = kExitIoError;
   }
   return status;
+}
+
+int Dispatch(const std::string& command, const std::vector<std::string>& args) {
+  if (command == "plot") return Plot(args);
+  if (command != "run" && command != "refine" && command != "validate") {
+    std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
+    return kExitUsage;
+  }
+  // SIGINT, SIGTERM and SIGHUP stop a run after its current point; what was found stays on
+  // disk with a final summary. A second SIGINT quits at once.
+  const nfrc::StopSignal stop;
+  if (command == "run") return Run(args, stop);
+  if (command == "refine") return Refine(args, stop);
+  return Validate(args, stop);
 }
 
 }  // namespace
@@ -261,21 +228,29 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
+  // The three tiers: bad input (1, 2), a failed write (4); numerical failures are statuses
+  // (3) returned above; anything else is a broken invariant (5), said as such.
   try {
-    if (command == "run") return Run(args);
-    if (command == "refine") return Refine(args);
-    if (command == "plot") return Plot(args);
-    if (command == "validate") return Validate(args);
-    std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
+    return Dispatch(command, args);
+  } catch (const nfrc::UsageError& error) {
+    std::cerr << error.what() << "\n" << kUsage;
     return kExitUsage;
   } catch (const nfrc::InputError& error) {
     std::cerr << "nfrc: error: " << error.what() << "\n";
     return kExitInputError;
-  } catch (const std::invalid_argument& error) {
+  } catch (const nfrc::OutputDirectoryInUse& error) {
+    // Nothing failed on disk: the command named a directory another run holds.
     std::cerr << "nfrc: error: " << error.what() << "\n";
     return kExitInputError;
-  } catch (const std::exception& error) {
-    std::cerr << "nfrc: error: " << error.what() << "\n";
+  } catch (const nfrc::OutputError& error) {
+    std::cerr << "nfrc: I/O error: " << error.what() << "\n";
     return kExitIoError;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "nfrc: internal error: out of memory (the case passed nfrc's size estimate; "
+                 "please report it with the case)\n";
+    return kExitInternalError;
+  } catch (const std::exception& error) {
+    std::cerr << "nfrc: internal error: " << error.what() << "\n";
+    return kExitInternalError;
   }
 }

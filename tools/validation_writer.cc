@@ -136,7 +136,7 @@ TraceObserver* ValidationWriter::OnTraceStart() {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
   if (error) {
-    throw std::runtime_error(dir_ + ": cannot create output directory: " + error.message());
+    throw OutputError(dir_ + ": cannot create output directory: " + error.message());
   }
   branch_writer_ = std::make_unique<BranchWriter>(dir_ + "/hbm", case_, source_);
   return branch_writer_.get();

@@ -209,3 +209,17 @@ def solve_at(case, omega, progress=False):
     if branch.interrupted:
         raise Interrupted(branch)
     return solutions
+
+
+def validate(case, omegas=(), start="hbm", chirp=False, progress=False):
+    """Checks the case's branch against transient integration at each ω of `omegas` (or the
+    case's validation.omega): the HBM solutions there (every crossing), a transient from
+    each (start="hbm") or from rest (start="rest"), and how each settled. Returns a dict:
+    complete, points (omega, solutions, transients with status, matched, stayed and the
+    relative differences), chirps (with chirp=True and a chirp in the case)."""
+    result, branch = _nfrc._validate(case, [float(w) for w in omegas], str(start), bool(chirp),
+                                     bool(progress))
+    if branch.interrupted:
+        raise Interrupted(branch)
+    result["branch"] = branch
+    return result

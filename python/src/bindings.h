@@ -27,6 +27,7 @@ void BindCase(py::module_& m);
 void BindResults(py::module_& m);  // Summary, Fold, Solution
 void BindTrace(py::module_& m);
 void BindSolveAt(py::module_& m);
+void BindValidate(py::module_& m);
 
 // A Case as Python holds it. Every setter validates the whole case and restores the old value
 // on error, unless changes are batched by `with case.edit():` (then validated once at the end,

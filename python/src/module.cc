@@ -16,4 +16,5 @@ PYBIND11_MODULE(_nfrc, m) {
   nfrc::python::BindResults(m);
   nfrc::python::BindTrace(m);
   nfrc::python::BindSolveAt(m);
+  nfrc::python::BindValidate(m);
 }

@@ -45,3 +45,19 @@ def test_omega_outside_the_range(source_dir):
     case = nfrc.load_case(source_dir / "cases/duffing.json")
     with pytest.raises(nfrc.InputError, match="omega"):
         nfrc.solve_at(case, 2.0)
+
+
+def test_validate_duffing_transients_match_the_hbm_and_the_middle_solution_leaves(source_dir):
+    # Independent reference: IDA transients started on each HBM solution. Inside the folds
+    # (ω = 1.2) the lower and upper solutions are stable (the transient stays) and the middle
+    # one is not; where they stay, the first harmonics agree to the HBM truncation (~1e-7).
+    case = nfrc.load_case(source_dir / "cases/duffing.json")
+    result = nfrc.validate(case, [1.2])
+    assert result["complete"]
+    (point,) = result["points"]
+    assert sorted(s["label"] for s in point["solutions"]) == ["lower", "middle", "upper"]
+    stayed = {t["start"]: t.get("stayed") for t in point["transients"]}
+    assert stayed["hbm lower"] and stayed["hbm upper"] and not stayed["hbm middle"]
+    for t in point["transients"]:
+        if t.get("stayed"):
+            assert max(t["difference"]["h1"]) < 1e-5

@@ -40,11 +40,11 @@ expect "rigid rod run" 0 "reached_lambda_bound" -- \
   "$nfrc" run "$src/cases/rod/rigid_nh20.json" --out "$work/rigid"
 grep -q '"min_gap"' "$work/rigid/branch.json" ||
   { echo "FAIL rigid rod: points lack min_gap"; failures=$((failures + 1)); }
-expect "refine without omega" 2 "needs a case file, --omega and --out DIR" -- \
+expect "refine without omega" 2 "needs --omega" -- \
   "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --out "$work/r"
 expect "refine omega outside range" 1 "omega: must lie in the case's range" -- \
   "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 1e6 --epsilon0 1e9 --out "$work/r"
-expect "refine bad epsilon" 1 "--epsilons: not a number" -- \
+expect "refine bad epsilon" 2 "--epsilons: not a number" -- \
   "$nfrc" refine "$src/cases/rod/rigid_nh20.json" --omega 6e4 --epsilons 1e9,abc --out "$work/r"
 expect "refine without dlft" 1 "refinement needs a dlft_contact law" -- \
   "$nfrc" refine "$src/cases/duffing.json" --omega 1.2 --epsilons 1 --out "$work/r"
@@ -73,9 +73,9 @@ expect "lemke stepping with dlft" 1 "nonlinearities[0]: LCP-HBM needs every law 
 # Transient validation: input errors name the option or field; a Duffing run writes its files.
 expect "validate without out" 2 "needs a case file and --out DIR" -- \
   "$nfrc" validate "$src/cases/duffing.json" --omega 1
-expect "validate bad omega" 1 "--omega: not a number" -- \
+expect "validate bad omega" 2 "--omega: not a number" -- \
   "$nfrc" validate "$src/cases/duffing.json" --omega 1,x --out "$work/v"
-expect "validate bad start" 1 "--start: expected hbm or rest" -- \
+expect "validate bad start" 2 "--start: expected one of hbm|rest" -- \
   "$nfrc" validate "$src/cases/duffing.json" --omega 1 --start cold --out "$work/v"
 expect "validate no omega" 1 "no frequencies to validate" -- \
   "$nfrc" validate "$src/cases/duffing.json" --out "$work/v"
