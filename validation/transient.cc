@@ -40,6 +40,17 @@ void TransientOptions::Validate() const {
   if (explicit_step_fraction > 1.0) Fail("explicit_step_fraction", "must be <= 1");
 }
 
+TransientStatistics& TransientStatistics::operator+=(const TransientStatistics& other) {
+  steps += other.steps;
+  residual_evaluations += other.residual_evaluations;
+  jacobian_evaluations += other.jacobian_evaluations;
+  nonlinear_iterations += other.nonlinear_iterations;
+  nonlinear_convergence_failures += other.nonlinear_convergence_failures;
+  error_test_failures += other.error_test_failures;
+  events += other.events;
+  return *this;
+}
+
 const char* ToString(TransientStatus status) {
   switch (status) {
     case TransientStatus::kPeriodic:

@@ -18,8 +18,17 @@ struct TransientOptions {
   // Absolute tolerance as a fraction of the state's scale (the linear response amplitude at
   // ω for x, ω times it for v): atol = relative_tolerance × absolute_scale_factor × scale.
   double absolute_scale_factor = 1e-3;
-  // Steady state: max over the state of |z(t + T) − z(t)| / max|z| at period boundaries,
-  // z = (x, v/ω), below this for `steady_periods` consecutive periods.
+  // Steady state, one rule for every integrator (validation/steady_state.h). With the state
+  // z = (x, v/ω) (m, and m per radian of excitation phase: both in displacement units) at the
+  // period boundaries t_p = pT, period p's difference is
+  //   d_p = max_i |z_i(t_p) − z_i(t_{p−1})| / max over the recorded period of max_i |z_i|,
+  // the denominator taken over the period's samples and its end state (d_p = 0 if that is
+  // 0). A difference counts when it is strictly below steady_tolerance; the run is T-periodic
+  // at the first period p ≥ min_periods that ends `steady_periods` consecutive counting
+  // periods. Only when max_periods is reached without it are kT-periodic orbits looked for,
+  // k = 2..max_period_multiple, by the same rule: the smallest k for which each of the last
+  // `steady_periods` boundary states differs from the one k periods before it by strictly
+  // less than steady_tolerance × the largest max|z| of the k periods between them.
   double steady_tolerance = 1e-7;
   int steady_periods = 2;
   int min_periods = 4;            // periods integrated before steady state may be declared
@@ -87,6 +96,24 @@ struct InitialState {
   Eigen::VectorXd v;
 };
 
+// Work counters of one transient run, summed over the whole run (every re-initialisation of
+// the integrator included). IDA fills all of them from SUNDIALS (IDAGetNumSteps,
+// IDAGetNumResEvals, IDAGetNumJacEvals, IDAGetNumNonlinSolvIters,
+// IDAGetNumNonlinSolvConvFails, IDAGetNumErrTestFails); the explicit central-difference
+// scheme has no residual, Jacobian, Newton iteration or error test: it fills steps and events
+// and leaves the others 0.
+struct TransientStatistics {
+  long steps = 0;
+  long residual_evaluations = 0;
+  long jacobian_evaluations = 0;
+  long nonlinear_iterations = 0;
+  long nonlinear_convergence_failures = 0;
+  long error_test_failures = 0;
+  long events = 0;  // mode switches (IDA) or contact openings and closings (explicit scheme)
+
+  TransientStatistics& operator+=(const TransientStatistics& other);
+};
+
 struct TransientResult {
   TransientStatus status = TransientStatus::kFailed;
   std::string message;
@@ -98,8 +125,9 @@ struct TransientResult {
   int period_multiple = 0;    // k ≥ 2 if a kT-periodic orbit was found instead, else 0
   // Relative state change at each period boundary (the steady-state measure), per period.
   std::vector<double> period_differences;
-  long steps = 0;
-  long events = 0;           // mode switches
+  long steps = 0;   // statistics.steps
+  long events = 0;  // statistics.events: mode switches
+  TransientStatistics statistics;
   PeriodRecord last_period;  // the last period integrated
 
   bool periodic() const { return status == TransientStatus::kPeriodic; }
@@ -119,12 +147,14 @@ struct ChirpResult {
   std::string message;
   std::string method;
   double wall_seconds = 0.0;
-  long steps = 0;
-  long events = 0;
+  long steps = 0;   // statistics.steps
+  long events = 0;  // statistics.events
+  TransientStatistics statistics;
   std::vector<ChirpCycle> cycles;
 };
 
-// A transient integrator of a TransientModel.
+// A transient integrator of a TransientModel: what callers use (MakeTransientIntegrator). The
+// implementations are the one TransientDriver (validation/transient_driver.h) over a stepper.
 class TransientIntegrator {
  public:
   virtual ~TransientIntegrator() = default;
