@@ -22,19 +22,16 @@ SolutionReporter::SolutionReporter(HarmonicSystem& system, std::vector<int> outp
 SolutionMeasures SolutionReporter::Measure(const Eigen::VectorXd& y, double omega) {
   SolutionMeasures m;
   m.response = analyzer_.Measure(y, omega);
-  double min_gap = INFINITY;
-  double min_force = INFINITY;
   for (size_t i = 0; i < system_.laws().size(); ++i) {
-    m.laws.push_back(system_.laws()[i]->Diagnostics(system_.context(static_cast<int>(i)), y, omega,
-                                                    analyzer_.fine()));
-    const auto& law = m.laws.back();
-    if (const auto it = law.find("min_gap"); it != law.end()) min_gap = std::min(min_gap, it->second);
-    if (const auto it = law.find("min_force"); it != law.end()) {
-      min_force = std::min(min_force, it->second);
+    const auto& law = *system_.laws()[i];
+    const NonlinearityContext& ctx = system_.context(static_cast<int>(i));
+    m.laws.push_back(law.Diagnostics(ctx, y, omega, analyzer_.fine()));
+    const LawSummary summary = law.Summarize(ctx, y, omega, analyzer_.fine());
+    if (summary.min_gap) m.min_gap = std::min(m.min_gap.value_or(INFINITY), *summary.min_gap);
+    if (summary.min_force) {
+      m.min_force = std::min(m.min_force.value_or(INFINITY), *summary.min_force);
     }
   }
-  if (std::isfinite(min_gap)) m.min_gap = min_gap;
-  if (std::isfinite(min_force)) m.min_force = min_force;
   return m;
 }
 

@@ -1,36 +1,23 @@
 #include "analysis/solve_at.h"
 
 #include <algorithm>
-#include <map>
 #include <memory>
 
 #include "continuation/fixed_lambda.h"
 #include "core/errors.h"
-#include "nonlinearities/phase_count.h"
 
 namespace nfrc {
 namespace {
 
-// Stick phases from a law's diagnostics (`measures.laws`), contact phases from its raw force
-// samples (the force before truncation is exactly zero while open, so every run of positive
-// samples counts).
-std::vector<PhaseSummary> Phases(HarmonicSystem& system, const SolutionMeasures& measures,
+// Each law's distinguished phase per period (stick, contact), from its typed summary.
+std::vector<PhaseSummary> Phases(HarmonicSystem& system, const FourierTransform& fine,
                                  const Eigen::VectorXd& y, double omega) {
   std::vector<PhaseSummary> phases;
   for (size_t i = 0; i < system.laws().size(); ++i) {
-    const auto& law = *system.laws()[i];
-    const NonlinearityContext& ctx = system.context(static_cast<int>(i));
-    const std::map<std::string, double>& diagnostics = measures.laws[i];
-    if (const auto it = diagnostics.find("stick_phases"); it != diagnostics.end()) {
-      phases.push_back({"stick", static_cast<int>(it->second), diagnostics.at("stick_fraction")});
-      continue;
-    }
-    for (const LawSignal& signal : law.RawSamples(ctx, y, omega)) {
-      if (signal.name != "force_raw") continue;
-      std::vector<bool> flags(signal.samples.size());
-      for (Eigen::Index j = 0; j < signal.samples.size(); ++j) flags[j] = signal.samples(j) > 0;
-      const PhaseCount count = CountPhases(flags, 0.0);
-      phases.push_back({"contact", count.count, count.fraction});
+    const LawSummary summary = system.laws()[i]->Summarize(
+        system.context(static_cast<int>(i)), y, omega, fine);
+    if (summary.phase) {
+      phases.push_back({summary.phase->name, summary.phase->count, summary.phase->fraction});
     }
   }
   return phases;
@@ -72,7 +59,7 @@ std::vector<CrossingSolution> SolveCrossings(const Case& the_case, HarmonicSyste
     s.signals.after_point = s.after_point;
     s.signals.converged = true;
     s.signals.note = s.message;
-    s.phases = Phases(system, s.signals.measures, s.y, omega);
+    s.phases = Phases(system, reporter.analyzer().fine(), s.y, omega);
     converged.push_back(static_cast<int>(solutions.size() - 1));
   }
   std::vector<int> order = converged;

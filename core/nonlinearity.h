@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,19 @@ struct NonlinearityContext {
 struct LawSignal {
   std::string name;  // e.g. "force", "velocity"
   Eigen::VectorXd samples;
+};
+
+// What analyses read about a law at a solution, typed; Diagnostics() names the same facts for
+// outputs.
+struct LawSummary {
+  struct Phase {
+    std::string name;       // "stick" (friction with a stick branch) or "contact"
+    int count = 0;          // phases per period
+    double fraction = 0.0;  // share of the period they cover
+  };
+  std::optional<Phase> phase;
+  std::optional<double> min_gap;    // m, contact laws: smallest gap on the law's samples
+  std::optional<double> min_force;  // N, contact laws: smallest truncated force (fine grid)
 };
 
 // A nonlinear law of the harmonic-balance problem (the extension point, like Ceres's
@@ -97,6 +111,12 @@ class Nonlinearity {
   // before truncation to the harmonic bandwidth (e.g. DLFT's corrected contact force).
   virtual std::vector<LawSignal> RawSamples(const NonlinearityContext& /*ctx*/,
                                             const Eigen::VectorXd& /*y*/, double /*omega*/) const {
+    return {};
+  }
+
+  // The typed facts analyses use (phases, contact extremes). Default: none.
+  virtual LawSummary Summarize(const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/,
+                               double /*omega*/, const FourierTransform& /*fine*/) const {
     return {};
   }
 

@@ -1,5 +1,7 @@
 #include "nonlinearities/contact_geometry.h"
 
+#include "nonlinearities/phase_count.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -104,6 +106,17 @@ std::map<std::string, double> ContactDiagnostics(const ContactState& state,
           {"min_force", truncated.minCoeff()},
           {"max_force", state.force.maxCoeff()},
           {"contact_fraction", static_cast<double>(in_contact) / state.force.size()}};
+}
+
+LawSummary ContactSummary(const ContactState& state, const FourierTransform& fine) {
+  std::vector<bool> flags(static_cast<size_t>(state.force.size()));
+  for (Eigen::Index j = 0; j < state.force.size(); ++j) flags[j] = state.force(j) > 0.0;
+  const PhaseCount count = CountPhases(flags, 0.0);
+  LawSummary summary;
+  summary.phase = LawSummary::Phase{"contact", count.count, count.fraction};
+  summary.min_gap = state.gap.minCoeff();
+  summary.min_force = fine.ToTime(state.force_coefficients).col(0).minCoeff();
+  return summary;
 }
 
 std::vector<LawSignal> ContactSignals(const ContactState& state, const Eigen::VectorXd& gap_coeffs,

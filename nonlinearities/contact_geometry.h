@@ -82,6 +82,9 @@ struct ContactState {
 // samples carrying force), max_penetration = max(0, −min_gap).
 std::map<std::string, double> ContactDiagnostics(const ContactState& state,
                                                  const FourierTransform& fine);
+// The typed summary of a contact state: contact phases (runs of samples whose force before
+// truncation is positive: it is exactly zero while open), min_gap and min_force.
+LawSummary ContactSummary(const ContactState& state, const FourierTransform& fine);
 // Gap and truncated force on the fine grid.
 std::vector<LawSignal> ContactSignals(const ContactState& state, const Eigen::VectorXd& gap_coeffs,
                                       const FourierTransform& fine);

@@ -135,4 +135,15 @@ std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityCon
   return result;
 }
 
+LawSummary CoulombFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                      double omega, const FourierTransform& fine) const {
+  LawSummary summary;
+  const std::map<std::string, double> diagnostics = Diagnostics(ctx, y, omega, fine);
+  if (const auto it = diagnostics.find("stick_phases"); it != diagnostics.end()) {
+    summary.phase = LawSummary::Phase{"stick", static_cast<int>(it->second),
+                                      diagnostics.at("stick_fraction")};
+  }
+  return summary;
+}
+
 }  // namespace nfrc

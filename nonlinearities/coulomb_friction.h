@@ -43,6 +43,10 @@ class CoulombFriction : public Nonlinearity {
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const override;
 
+  // Stick phases (laws with a stick branch) and their fraction.
+  LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                       const FourierTransform& fine) const override;
+
   const FrictionParameters& parameters() const { return parameters_; }
   int dof() const { return dof_; }
   int other() const { return other_; }

@@ -132,4 +132,10 @@ std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext
   return diagnostics;
 }
 
+LawSummary DlftContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                           double omega, const FourierTransform& fine) const {
+  
+  return ContactSummary(PredictAt(ctx, y, omega).state, fine);
+}
+
 }  // namespace nfrc

@@ -129,4 +129,9 @@ std::map<std::string, double> LcpContact::Diagnostics(const NonlinearityContext&
   return diagnostics;
 }
 
+LawSummary LcpContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                           double /*omega*/, const FourierTransform& fine) const {
+  return ContactSummary(State(ctx, y), fine);
+}
+
 }  // namespace nfrc

@@ -52,6 +52,8 @@ class LcpContact : public Nonlinearity {
                           Eigen::Ref<Eigen::VectorXd> own) const override;
   std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                  double omega, const FourierTransform& fine) const override;
+  LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                       const FourierTransform& fine) const override;
   std::vector<LawSignal> RawSamples(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                     double omega) const override;
   // ContactDiagnostics plus "complementarity": max_j |min(g_j, λ_j/ε)| (m).

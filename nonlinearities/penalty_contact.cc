@@ -69,4 +69,9 @@ std::map<std::string, double> PenaltyContact::Diagnostics(const NonlinearityCont
   return ContactDiagnostics(State(ctx, y), fine);
 }
 
+LawSummary PenaltyContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                           double /*omega*/, const FourierTransform& fine) const {
+  return ContactSummary(State(ctx, y), fine);
+}
+
 }  // namespace nfrc

@@ -28,6 +28,8 @@ class PenaltyContact : public Nonlinearity {
                 Eigen::VectorXd* d_omega) const override;
   std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                  double omega, const FourierTransform& fine) const override;
+  LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                       const FourierTransform& fine) const override;
   std::vector<LawSignal> RawSamples(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                     double omega) const override;
   std::map<std::string, double> Diagnostics(const NonlinearityContext& ctx,

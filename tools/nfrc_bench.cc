@@ -352,6 +352,11 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
   std::printf("  wall time      %.3f s (median of %d runs)\n", Median(times), repeats);
   std::printf("  periods        %d (%.3f ms/period), %ld steps, %ld events\n", result.periods,
               1e3 * Median(times) / std::max(1, result.periods), result.steps, result.events);
+  const nfrc::TransientStatistics& st = result.statistics;
+  std::printf("  integrator     %ld residual and %ld Jacobian evaluations, %ld nonlinear "
+              "iterations, %ld convergence and %ld error-test failures\n",
+              st.residual_evaluations, st.jacobian_evaluations, st.nonlinear_iterations,
+              st.nonlinear_convergence_failures, st.error_test_failures);
 }
 
 }  // namespace

@@ -15,6 +15,17 @@ nlohmann::json PhaseJson(const std::string& name, int count, double fraction) {
   return {{"phase", name}, {"count", count}, {"fraction", fraction}};
 }
 
+// The integrator's counters (SUNDIALS IDA's; the explicit scheme fills steps and events).
+nlohmann::json StatisticsJson(const TransientStatistics& s) {
+  return {{"steps", s.steps},
+          {"residual_evaluations", s.residual_evaluations},
+          {"jacobian_evaluations", s.jacobian_evaluations},
+          {"nonlinear_iterations", s.nonlinear_iterations},
+          {"nonlinear_convergence_failures", s.nonlinear_convergence_failures},
+          {"error_test_failures", s.error_test_failures},
+          {"events", s.events}};
+}
+
 nlohmann::json TransientJson(const TransientRun& run, const std::string& signals_file) {
   const TransientResult& r = run.result;
   const PeriodMeasures& m = run.measures;
@@ -28,6 +39,7 @@ nlohmann::json TransientJson(const TransientRun& run, const std::string& signals
       {"t_end", r.t_end},
       {"steps", r.steps},
       {"events", r.events},
+      {"statistics", StatisticsJson(r.statistics)},
       {"period_multiple", r.period_multiple},
       {"last_period_difference", r.period_differences.empty() ? 0.0 : r.period_differences.back()},
       {"start", run.start}};
@@ -223,6 +235,7 @@ void ValidationWriter::OnChirp(const ChirpRun& run) {
                                        {"cycles", r.cycles.size()},
                                        {"steps", r.steps},
                                        {"events", r.events},
+                                       {"statistics", StatisticsJson(r.statistics)},
                                        {"file", r.cycles.empty() ? "" : file}};
   WriteJson();
 }

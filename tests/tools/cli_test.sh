@@ -90,6 +90,46 @@ for f in validation.json signals_0.csv signals_0.png validation.png hbm/branch.j
   [ -s "$work/v/$f" ] || { echo "FAIL validate: $f missing"; failures=$((failures + 1)); }
 done
 
+# Writing: a branch.csv that is a link to /dev/full is refused (never written through), and a
+# directory another run holds is refused at once.
+mkdir -p "$work/full" && ln -s /dev/full "$work/full/branch.csv"
+expect "branch.csv linked to /dev/full" 4 "branch.csv" -- \
+  "$nfrc" run "$src/cases/duffing.json" --out "$work/full"
+mkdir -p "$work/held"
+flock "$work/held/.nfrc.lock" sleep 30 &
+holder=$!
+sleep 0.5
+expect "output directory in use" 1 "in use by another nfrc run" -- \
+  "$nfrc" run "$src/cases/duffing.json" --out "$work/held"
+kill "$holder" 2>/dev/null
+[ -z "$(ls "$work/held")" ] || { echo "FAIL directory in use: files written"; failures=$((failures + 1)); }
+
+# Signals: SIGHUP stops a run and SIGTERM a refinement (a background job of a script starts
+# with SIGINT ignored, which nfrc leaves so) after the current point: exit 3, the
+# points on disk and a final summary (never left "running").
+stopped() {  # stopped NAME SIGNAL AFTER_SECONDS FILE -- command...
+  local name=$1 signal=$2 after=$3 file=$4
+  shift 5
+  "$@" >/dev/null 2>"$work/err_$name" &
+  local pid=$!
+  sleep "$after"
+  kill -s "$signal" "$pid"
+  wait "$pid"
+  local got=$?
+  if [ "$got" -ne 3 ] || [ ! -s "$file" ] || grep -q '"running"' "$file" ||
+     ! grep -q 'interrupted' "$file"; then
+    echo "FAIL $name: exit $got (want 3), $file:"; head -c 300 "$file" 2>/dev/null; echo
+    failures=$((failures + 1))
+  else
+    echo "ok   $name"
+  fi
+}
+stopped "run stopped by SIGHUP" HUP 2 "$work/hup/branch.json" -- \
+  "$nfrc" run "$src/cases/friction/point_e.json" --out "$work/hup"
+stopped "refine stopped by SIGTERM" TERM 0.5 "$work/int/refinement.json" -- \
+  "$nfrc" refine "$src/cases/rod/rigid_nh40.json" --omega 63953.9 --epsilon0 1e9 --steps 40 \
+  --out "$work/int"
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures CLI check(s) failed"
   exit 1
