@@ -83,8 +83,8 @@ void CheckProblemSize(const ProblemDimensions& d) {
   const double oversampling = d.samples / (2.0 * std::max(1.0, d.max_harmonic) + 1.0);
   if (d.samples > kFreeSamples && oversampling > kMaxOversampling) {
     throw InputError("harmonics.samples: " + Count(d.samples) + " samples per period is " +
-                     Count(oversampling) + "x oversampling of harmonic " +
-                     Count(d.max_harmonic) + " (at most " + Count(kMaxOversampling) + "x)");
+                     Count(oversampling) + "x oversampling of harmonic " + Count(d.max_harmonic) +
+                     " (at most " + Count(kMaxOversampling) + "x)");
   }
   const ProblemSize size = EstimateSize(d);
   // The field to blame: whichever dimension dominates the estimate.
@@ -97,10 +97,10 @@ void CheckProblemSize(const ProblemDimensions& d) {
   }
   const double trace_work = kTypicalEvaluations * size.work_per_step;
   if (trace_work > kMaxTraceWork) {
-    throw InputError(std::string(blame) + ": a trace needs about " + Count(trace_work) +
-                     " flop (" + Count(size.work_per_step) + " per Newton step, " +
-                     Count(d.num_dofs) + " DOFs, H = " + Count(d.max_harmonic) +
-                     "), more than the " + Count(kMaxTraceWork) + " (about ten hours) nfrc allows");
+    throw InputError(std::string(blame) + ": a trace needs about " + Count(trace_work) + " flop (" +
+                     Count(size.work_per_step) + " per Newton step, " + Count(d.num_dofs) +
+                     " DOFs, H = " + Count(d.max_harmonic) + "), more than the " +
+                     Count(kMaxTraceWork) + " (about ten hours) nfrc allows");
   }
   if (size.total_work > kMaxTotalWork) {
     throw InputError("continuation.points: " + Count(d.points) + " points need about " +
@@ -166,8 +166,9 @@ void Case::Validate() const {
     for (const auto& h : geometry->gap_harmonics) driven |= h.cos != 0.0 || h.sin != 0.0;
   }
   if (!driven) {
-    throw InputError("model.forcing: every amplitude is zero and no gap moves: the response "
-                     "is zero at every omega");
+    throw InputError(
+        "model.forcing: every amplitude is zero and no gap moves: the response "
+        "is zero at every omega");
   }
   for (size_t i = 0; i < laws.size(); ++i) {
     try {

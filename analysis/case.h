@@ -53,9 +53,9 @@ struct Case {
 // The sizes that decide what a problem costs, known before anything large is allocated
 // (a reader fills them from the raw numbers of a file).
 struct ProblemDimensions {
-  double num_dofs = 1;       // model DOFs
-  double num_retained = 1;   // DOFs the laws act on (kept by the condensation)
-  double max_harmonic = 1;   // H
+  double num_dofs = 1;      // model DOFs
+  double num_retained = 1;  // DOFs the laws act on (kept by the condensation)
+  double max_harmonic = 1;  // H
   bool odd_only = false;
   double samples = 0;        // N_t (0: the default for H)
   double own_blocks = 0;     // laws whose own unknowns are one signal (friction)

@@ -133,7 +133,7 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     }
     // An overflow (absurd coefficients, a diverging iterate) is a numerical failure with a
     // cause, not a silent one.
-    const char* what = !residual->allFinite()                               ? "residual"
+    const char* what = !residual->allFinite()                              ? "residual"
                        : jacobian_y != nullptr && !jacobian_y->allFinite() ? "Jacobian"
                        : jacobian_omega != nullptr && !jacobian_omega->allFinite()
                            ? "omega-derivative"

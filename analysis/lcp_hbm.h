@@ -3,8 +3,8 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "core/lemke.h"
 #include "analysis/harmonic_system.h"
+#include "core/lemke.h"
 #include "nonlinearities/law_spec.h"
 
 namespace nfrc {

@@ -1,10 +1,9 @@
-#include "analysis/trace.h"
-
 #include <algorithm>
 #include <chrono>
 #include <ostream>
 
 #include "analysis/lcp_hbm.h"
+#include "analysis/trace.h"
 
 namespace nfrc {
 namespace {
@@ -112,8 +111,9 @@ TraceResult StepLcp(const Case& the_case, const TraceOptions& options) {
     record_point.index = index;
     record_point.point = point;
     record_point.measures = reporter.Measure(point.y, omega);
-    if (warm) record_point.contact_branch = ContactBranchRecord{reporter.Measure(warm->y, omega),
-                                                                Record(*warm)};
+    if (warm)
+      record_point.contact_branch =
+          ContactBranchRecord{reporter.Measure(warm->y, omega), Record(*warm)};
     result.points.push_back(std::move(record_point));
     if (observer != nullptr) observer->OnPoint(result.points.back());
     if (options.solve_signals && std::find(the_case.signals_at.begin(), the_case.signals_at.end(),

@@ -4,8 +4,8 @@
 #include <Eigen/Sparse>
 #include <vector>
 
-#include "core/fourier_transform.h"
 #include "analysis/harmonic_system.h"
+#include "core/fourier_transform.h"
 
 namespace nfrc {
 

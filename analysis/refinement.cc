@@ -22,9 +22,7 @@ std::string Format(double value) {
   return out.str();
 }
 
-bool Stopped(const RefinementRunOptions& run) {
-  return run.stop != nullptr && run.stop->load();
-}
+bool Stopped(const RefinementRunOptions& run) { return run.stop != nullptr && run.stop->load(); }
 
 // Records the branch, forwards it to the run's observer and stops it at the first point at or
 // beyond ω, solving exactly there.
@@ -101,8 +99,7 @@ std::optional<FixedLambdaSolution> TraceToOmega(const Case& the_case, double ome
 RefinementStep SolveStep(const Case& refined, double epsilon, double omega,
                          const Eigen::VectorXd& y, const LcpReference* reference) {
   std::unique_ptr<HarmonicSystem> system = BuildSystem(refined);
-  const FixedLambdaSolution solved =
-      SolveAtFixedLambda(*system, y, omega, y, refined.continuation);
+  const FixedLambdaSolution solved = SolveAtFixedLambda(*system, y, omega, y, refined.continuation);
   RefinementStep step;
   step.epsilon = epsilon;
   step.converged = solved.converged;
@@ -124,8 +121,7 @@ void ReportStep(std::ostream* progress, const RefinementStep& step) {
   if (progress == nullptr) return;
   const SolutionMeasures& m = step.signals.measures;
   *progress << "refine: epsilon=" << step.epsilon << "  converged=" << step.converged
-            << "  newton=" << step.newton_iterations
-            << "  min_gap=" << m.min_gap.value_or(NAN)
+            << "  newton=" << step.newton_iterations << "  min_gap=" << m.min_gap.value_or(NAN)
             << "  min_force=" << m.min_force.value_or(NAN) << "\n";
 }
 
@@ -184,8 +180,8 @@ RefinementResult RefineEpsilon(const Case& the_case, const RefinementOptions& op
     for (LawSpec& law : refined.laws) {
       if (auto* dlft = std::get_if<DlftContactSpec>(&law)) dlft->contact.epsilon = epsilon;
     }
-    const RefinementStep& step = result.steps.emplace_back(SolveStep(
-        refined, epsilon, options.omega, y, result.lcp ? &*result.lcp : nullptr));
+    const RefinementStep& step = result.steps.emplace_back(
+        SolveStep(refined, epsilon, options.omega, y, result.lcp ? &*result.lcp : nullptr));
     if (run.observer != nullptr) run.observer->OnStep(step);
     ReportStep(run.progress, step);
     if (!step.converged) break;

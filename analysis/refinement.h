@@ -63,11 +63,11 @@ class RefinementObserver {
 };
 
 struct RefinementRunOptions {
-  std::ostream* progress = nullptr;         // progress lines; null = quiet
+  std::ostream* progress = nullptr;  // progress lines; null = quiet
   // Polled after every branch point and before every step; null = never stops.
   const std::atomic<bool>* stop = nullptr;
-  TraceObserver* branch = nullptr;          // the branch up to ω as it is traced
-  RefinementObserver* observer = nullptr;   // the reference and the steps as they come
+  TraceObserver* branch = nullptr;         // the branch up to ω as it is traced
+  RefinementObserver* observer = nullptr;  // the reference and the steps as they come
 };
 
 // Traces the case from omega_start until the branch first reaches ω, solves there, then solves

@@ -14,8 +14,8 @@ std::vector<PhaseSummary> Phases(HarmonicSystem& system, const FourierTransform&
                                  const Eigen::VectorXd& y, double omega) {
   std::vector<PhaseSummary> phases;
   for (size_t i = 0; i < system.laws().size(); ++i) {
-    const LawSummary summary = system.laws()[i]->Summarize(
-        system.context(static_cast<int>(i)), y, omega, fine);
+    const LawSummary summary =
+        system.laws()[i]->Summarize(system.context(static_cast<int>(i)), y, omega, fine);
     if (summary.phase) {
       phases.push_back({summary.phase->name, summary.phase->count, summary.phase->fraction});
     }

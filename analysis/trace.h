@@ -38,8 +38,8 @@ struct TracePoint {
   int index = 0;
   BranchPoint point;
   SolutionMeasures measures;
-  std::optional<LemkeRecord> lemke;               // Lemke stepping only
-  bool coexisting_contact = false;                // Lemke stepping: a warm start found one
+  std::optional<LemkeRecord> lemke;  // Lemke stepping only
+  bool coexisting_contact = false;   // Lemke stepping: a warm start found one
   std::optional<ContactBranchRecord> contact_branch;
 };
 
@@ -62,10 +62,10 @@ class TraceObserver {
 };
 
 struct TraceOptions {
-  std::ostream* progress = nullptr;            // progress lines; null = quiet
-  const std::atomic<bool>* stop = nullptr;     // polled after every point
-  TraceObserver* observer = nullptr;           // results as they come
-  bool solve_signals = true;                   // resolve the case's signals_at crossings
+  std::ostream* progress = nullptr;         // progress lines; null = quiet
+  const std::atomic<bool>* stop = nullptr;  // polled after every point
+  TraceObserver* observer = nullptr;        // results as they come
+  bool solve_signals = true;                // resolve the case's signals_at crossings
 };
 
 // A traced branch and everything reported along it.
@@ -92,8 +92,7 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 // fails (nonsmooth laws with many harmonics), the start of the same case with about a third
 // of the harmonics (recursively) re-expressed in the full set and corrected. Returns the
 // linear guess if every rung fails (the engine then reports the failed start).
-Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
-                              std::ostream* progress);
+Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress);
 
 // Lemke stepping (continuation.method "lemke_stepping"): LCP-HBM at `stepping.points`
 // evenly spaced ω plus the signals_at frequencies.

@@ -14,7 +14,8 @@ void ValidationSettings::Validate() const {
   }
   transient.Validate();
   if (!chirp.enabled) return;
-  if (!(chirp.omega_start > 0.0)) throw InputError("validation.chirp.omega_start: must be positive");
+  if (!(chirp.omega_start > 0.0))
+    throw InputError("validation.chirp.omega_start: must be positive");
   if (!(chirp.omega_end > 0.0) || chirp.omega_end == chirp.omega_start) {
     throw InputError("validation.chirp.omega_end: must be positive and differ from omega_start");
   }

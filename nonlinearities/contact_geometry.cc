@@ -1,9 +1,9 @@
 #include "nonlinearities/contact_geometry.h"
 
-#include "nonlinearities/phase_count.h"
-
 #include <cmath>
 #include <stdexcept>
+
+#include "nonlinearities/phase_count.h"
 
 namespace nfrc {
 

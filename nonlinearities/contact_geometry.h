@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/errors.h"
 #include "core/fourier_transform.h"
 #include "core/harmonic_set.h"
-#include "core/errors.h"
 #include "core/linear_model.h"
 #include "core/nonlinearity.h"
 
@@ -30,7 +30,6 @@ struct ContactGeometry {
   double direction = 1.0;                  // n
   double gap = 0.0;                        // constant part of g0 (m)
   std::vector<GapHarmonic> gap_harmonics;  // time-varying part of g0
-
 
   std::vector<int> Dofs() const;
   // Coefficients of g0 in `set`; throws std::invalid_argument naming "gap" if a gap

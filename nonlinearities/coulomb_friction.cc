@@ -28,7 +28,6 @@ CoulombFriction::CoulombFriction(int dof, int other, FrictionParameters paramete
   }
 }
 
-
 std::unique_ptr<Nonlinearity> CoulombFrictionSpec::MakeHarmonic() const {
   return std::make_unique<CoulombFriction>(dof, other, Parameters());
 }
@@ -114,21 +113,20 @@ std::vector<LawSignal> CoulombFriction::Signals(const NonlinearityContext& ctx,
 }
 
 std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityContext& ctx,
-                                                           const Eigen::VectorXd& y,
-                                                           double omega,
+                                                           const Eigen::VectorXd& y, double omega,
                                                            const FourierTransform& fine) const {
   const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
   const Eigen::VectorXd& r = signals[0].samples;
   const Eigen::VectorXd& v = signals[1].samples;
   std::map<std::string, double> result;
-  if (parameters_.limit > 0.0) result["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
+  if (parameters_.limit > 0.0)
+    result["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
   if (HasStickBranch(parameters_.equality)) {
     std::vector<bool> stuck(static_cast<size_t>(r.size()));
     for (Eigen::Index j = 0; j < r.size(); ++j) {
       stuck[static_cast<size_t>(j)] = OnStickBranch(parameters_, v(j), r(j));
     }
-    const PhaseCount phases =
-        CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
+    const PhaseCount phases = CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
     result["stick_phases"] = phases.count;
     result["stick_fraction"] = phases.fraction;
   }
@@ -140,8 +138,8 @@ LawSummary CoulombFriction::Summarize(const NonlinearityContext& ctx, const Eige
   LawSummary summary;
   const std::map<std::string, double> diagnostics = Diagnostics(ctx, y, omega, fine);
   if (const auto it = diagnostics.find("stick_phases"); it != diagnostics.end()) {
-    summary.phase = LawSummary::Phase{"stick", static_cast<int>(it->second),
-                                      diagnostics.at("stick_fraction")};
+    summary.phase =
+        LawSummary::Phase{"stick", static_cast<int>(it->second), diagnostics.at("stick_fraction")};
   }
   return summary;
 }

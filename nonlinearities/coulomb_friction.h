@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/linear_model.h"
-#include "nonlinearities/friction_equality.h"
 #include "core/nonlinearity.h"
+#include "nonlinearities/friction_equality.h"
 
 namespace nfrc {
 
@@ -21,7 +21,6 @@ class CoulombFriction : public Nonlinearity {
   // other < 0: against ground. Throws std::invalid_argument for μN < 0 or a parameter of the
   // chosen equality that is not positive.
   CoulombFriction(int dof, int other, FrictionParameters parameters);
-
 
   std::string type() const override { return "coulomb_friction"; }
   std::vector<int> Dofs() const override;

@@ -1,9 +1,9 @@
 #include "nonlinearities/dlft_contact.h"
 
-#include "nonlinearities/law_spec.h"
-
 #include <cmath>
 #include <stdexcept>
+
+#include "nonlinearities/law_spec.h"
 
 namespace nfrc {
 namespace {
@@ -24,7 +24,6 @@ DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, do
     : spec_{std::move(geometry), obstacle_stiffness, epsilon} {
   spec_.Validate();
 }
-
 
 std::unique_ptr<Nonlinearity> DlftContactSpec::MakeHarmonic() const {
   return std::make_unique<DlftContact>(contact.geometry, contact.obstacle_stiffness,
@@ -133,8 +132,7 @@ std::map<std::string, double> DlftContact::Diagnostics(const NonlinearityContext
 }
 
 LawSummary DlftContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                           double omega, const FourierTransform& fine) const {
-  
+                                  double omega, const FourierTransform& fine) const {
   return ContactSummary(PredictAt(ctx, y, omega).state, fine);
 }
 

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/linear_model.h"
-#include "nonlinearities/contact_geometry.h"
 #include "core/nonlinearity.h"
+#include "nonlinearities/contact_geometry.h"
 
 namespace nfrc {
 
@@ -64,8 +64,7 @@ class DlftContact : public Nonlinearity {
   // Gap (m) and contact force before truncation (N) on the N_t samples and the truncated
   // force's coefficients at solution y: the typed form of RawSamples, for comparisons with
   // LCP-HBM on the same samples (ε-refinement) without looking signals up by name.
-  ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                     double omega) const {
+  ContactState State(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
     return PredictAt(ctx, y, omega).state;
   }
   const ContactGeometry& geometry() const { return spec_.geometry; }

@@ -11,7 +11,7 @@ namespace nfrc {
 // Outcome of comparing an analytic Jacobian with central finite differences. Errors are
 // relative to the largest entry of the analytic matrix (or vector), floored at `floor`.
 struct JacobianCheckResult {
-  double y_error = 0.0;      // max |J − J_fd| / max(|J|_max, floor)
+  double y_error = 0.0;  // max |J − J_fd| / max(|J|_max, floor)
   int worst_row = -1;
   int worst_col = -1;
   double omega_error = 0.0;  // max |dω − dω_fd| / max(|dω|_max, floor)
@@ -19,9 +19,9 @@ struct JacobianCheckResult {
 };
 
 // Evaluates r(y, ω) and, when non-null, ∂r/∂y and ∂r/∂ω.
-using ResidualFunction = std::function<void(const Eigen::VectorXd& y, double omega,
-                                            Eigen::VectorXd* r, Eigen::MatrixXd* jacobian,
-                                            Eigen::VectorXd* d_omega)>;
+using ResidualFunction =
+    std::function<void(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* r,
+                       Eigen::MatrixXd* jacobian, Eigen::VectorXd* d_omega)>;
 
 // Central differences with steps h_i = relative_step·max(|y_i|, typical_y) and
 // h_ω = relative_step·|ω|; every column of ∂r/∂y and the ω column are checked.
@@ -34,7 +34,6 @@ JacobianCheckResult CheckJacobian(const ResidualFunction& function, const Eigen:
 JacobianCheckResult CheckNonlinearityJacobian(const Nonlinearity& law,
                                               const NonlinearityContext& ctx,
                                               Condensation* condensation, const Eigen::VectorXd& y,
-                                              double omega, double relative_step,
-                                              double typical_y);
+                                              double omega, double relative_step, double typical_y);
 
 }  // namespace nfrc

@@ -98,7 +98,8 @@ void CoulombFrictionSpec::Validate(const LinearModel& model) const {
 
 void PenaltyContactSpec::Validate(const LinearModel& model) const {
   CheckGeometry(geometry, model);
-  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) Fail("stiffness", "must be finite and > 0 (N/m)");
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness))
+    Fail("stiffness", "must be finite and > 0 (N/m)");
 }
 
 void DlftContactSpec::Validate(const LinearModel& model) const { CheckLagrangian(contact, model); }

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "core/linear_model.h"
+#include "core/nonlinearity.h"
 #include "nonlinearities/contact_geometry.h"
 #include "nonlinearities/friction_equality.h"
-#include "core/nonlinearity.h"
 #include "nonlinearities/polynomial_spring.h"
 
 namespace nfrc {

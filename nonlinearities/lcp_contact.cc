@@ -1,10 +1,10 @@
 #include "nonlinearities/lcp_contact.h"
 
-#include "nonlinearities/law_spec.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "nonlinearities/law_spec.h"
 
 namespace nfrc {
 
@@ -17,10 +17,9 @@ LcpContact::LcpContact(ContactGeometry geometry, double obstacle_stiffness, doub
   }
 }
 
-
 std::unique_ptr<Nonlinearity> LcpContactSpec::MakeHarmonic() const {
-  return std::make_unique<LcpContact>(contact.geometry, contact.obstacle_stiffness,
-                                      contact.epsilon, smoothing);
+  return std::make_unique<LcpContact>(contact.geometry, contact.obstacle_stiffness, contact.epsilon,
+                                      smoothing);
 }
 
 void LcpContact::CheckForContinuation(const HarmonicSet& set) const {
@@ -130,7 +129,7 @@ std::map<std::string, double> LcpContact::Diagnostics(const NonlinearityContext&
 }
 
 LawSummary LcpContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                           double /*omega*/, const FourierTransform& fine) const {
+                                 double /*omega*/, const FourierTransform& fine) const {
   return ContactSummary(State(ctx, y), fine);
 }
 

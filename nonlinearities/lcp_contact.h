@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/linear_model.h"
-#include "nonlinearities/contact_geometry.h"
 #include "core/nonlinearity.h"
+#include "nonlinearities/contact_geometry.h"
 
 namespace nfrc {
 
@@ -74,7 +74,7 @@ class LcpContact : public Nonlinearity {
 
   LagrangianContactSpec spec_;
   double resolved_epsilon_ = 0.0;  // N/m, set by Bind when ε is the default
-  double smoothing_;  // m
+  double smoothing_;               // m
 };
 
 }  // namespace nfrc

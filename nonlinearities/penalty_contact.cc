@@ -1,9 +1,9 @@
 #include "nonlinearities/penalty_contact.h"
 
-#include "nonlinearities/law_spec.h"
-
 #include <cmath>
 #include <stdexcept>
+
+#include "nonlinearities/law_spec.h"
 
 namespace nfrc {
 
@@ -13,7 +13,6 @@ PenaltyContact::PenaltyContact(ContactGeometry geometry, double stiffness)
     throw std::invalid_argument("stiffness: must be finite and > 0");
   }
 }
-
 
 std::unique_ptr<Nonlinearity> PenaltyContactSpec::MakeHarmonic() const {
   return std::make_unique<PenaltyContact>(geometry, stiffness);
@@ -70,7 +69,7 @@ std::map<std::string, double> PenaltyContact::Diagnostics(const NonlinearityCont
 }
 
 LawSummary PenaltyContact::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                           double /*omega*/, const FourierTransform& fine) const {
+                                     double /*omega*/, const FourierTransform& fine) const {
   return ContactSummary(State(ctx, y), fine);
 }
 

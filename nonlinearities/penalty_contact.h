@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/linear_model.h"
-#include "nonlinearities/contact_geometry.h"
 #include "core/nonlinearity.h"
+#include "nonlinearities/contact_geometry.h"
 
 namespace nfrc {
 

@@ -55,13 +55,9 @@ nlohmann::json MeasuresToJson(const SolutionMeasures& measures) {
   const PointMeasures& m = measures.response;
   nlohmann::json laws = nlohmann::json::array();
   for (const auto& law : measures.laws) laws.push_back(law);
-  nlohmann::json entry = {{"energy", m.energy},
-                          {"max_abs", m.max_abs},
-                          {"min", m.min},
-                          {"max", m.max},
-                          {"h1", m.h1},
-                          {"amplitudes", m.amplitudes},
-                          {"laws", laws}};
+  nlohmann::json entry = {
+      {"energy", m.energy}, {"max_abs", m.max_abs},       {"min", m.min}, {"max", m.max},
+      {"h1", m.h1},         {"amplitudes", m.amplitudes}, {"laws", laws}};
   if (measures.min_gap) entry["min_gap"] = *measures.min_gap;
   if (measures.min_force) entry["min_force"] = *measures.min_force;
   return entry;
@@ -96,8 +92,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
     : dir_(std::move(dir)), case_(the_case) {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
-  if (error)
-    throw OutputError(dir_ + ": cannot create output directory: " + error.message());
+  if (error) throw OutputError(dir_ + ": cannot create output directory: " + error.message());
   csv_.Open(dir_ + "/branch.csv");
   csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega,energy";
   for (const std::string& name : case_.output_names) csv_ << ",max_abs_" << name;
@@ -151,9 +146,8 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
   }
   document_["points"].push_back(std::move(entry));
   const PointMeasures& m = record.measures.response;
-  csv_ << record.index << ',' << point.lambda << ',' << point.step << ','
-       << point.newton_iterations << ',' << point.residual_norm << ',' << point.tangent_lambda
-       << ',' << m.energy;
+  csv_ << record.index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations
+       << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
   csv_ << '\n';

@@ -1,14 +1,13 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
-#include "core/errors.h"
 #include <string>
 #include <vector>
 
+#include "core/errors.h"
 #include "core/linear_model.h"
 
 namespace nfrc {
-
 
 // Strict reader of one JSON object of a case file. Every read names the field in its error
 // message; Finish() rejects keys nobody read, so a misspelt option never passes silently.

@@ -1,15 +1,14 @@
 #include "tools/model_reader.h"
 
-#include "analysis/case.h"
-
 #include <algorithm>
 #include <filesystem>
 #include <map>
 
-#include "tools/input_fields.h"
+#include "analysis/case.h"
 #include "models/damping.h"
 #include "models/matrix_market.h"
 #include "models/rod.h"
+#include "tools/input_fields.h"
 
 namespace nfrc {
 namespace {
@@ -116,8 +115,8 @@ ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_di
                          std::to_string(n) + "x" + std::to_string(n));
   }
   if (model.stiffness.cols() != n) fields.Fail("K", "must be square");
-  model.damping = fields.Has("C") ? ReadMatrix(fields, "C", base_dir)
-                                  : Eigen::SparseMatrix<double>(n, n);
+  model.damping =
+      fields.Has("C") ? ReadMatrix(fields, "C", base_dir) : Eigen::SparseMatrix<double>(n, n);
   if (model.damping.rows() != n || model.damping.cols() != n) {
     fields.Fail("C", "size differs from K's " + std::to_string(n) + "x" + std::to_string(n));
   }

@@ -28,13 +28,13 @@
 #include <string>
 #include <vector>
 
+#include "analysis/lcp_hbm.h"
+#include "analysis/trace.h"
+#include "analysis/validation_settings.h"
 #include "core/condensation.h"
 #include "models/damping.h"
 #include "models/rod.h"
-#include "analysis/lcp_hbm.h"
-#include "analysis/trace.h"
 #include "tools/case_file.h"
-#include "analysis/validation_settings.h"
 #include "validation/make_integrator.h"
 
 namespace {
@@ -155,7 +155,8 @@ void BenchRefinedRod(int elements, int max_points) {
   the_case.model.model.damping =
       nfrc::RayleighDamping(the_case.model.model.mass, the_case.model.model.stiffness, 0.0, beta);
   for (nfrc::ForcingTerm& term : the_case.model.forcing) term.dof = end;
-  for (nfrc::LawSpec& law : the_case.laws) std::get<nfrc::DlftContactSpec>(law).contact.geometry.dof = end;
+  for (nfrc::LawSpec& law : the_case.laws)
+    std::get<nfrc::DlftContactSpec>(law).contact.geometry.dof = end;
   the_case.output_dofs = {end};
   the_case.continuation.lambda_start = 6.3e4;
   the_case.continuation.lambda_end = 6.6e4;
@@ -353,10 +354,11 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
   std::printf("  periods        %d (%.3f ms/period), %ld steps, %ld events\n", result.periods,
               1e3 * Median(times) / std::max(1, result.periods), result.steps, result.events);
   const nfrc::TransientStatistics& st = result.statistics;
-  std::printf("  integrator     %ld residual and %ld Jacobian evaluations, %ld nonlinear "
-              "iterations, %ld convergence and %ld error-test failures\n",
-              st.residual_evaluations, st.jacobian_evaluations, st.nonlinear_iterations,
-              st.nonlinear_convergence_failures, st.error_test_failures);
+  std::printf(
+      "  integrator     %ld residual and %ld Jacobian evaluations, %ld nonlinear "
+      "iterations, %ld convergence and %ld error-test failures\n",
+      st.residual_evaluations, st.jacobian_evaluations, st.nonlinear_iterations,
+      st.nonlinear_convergence_failures, st.error_test_failures);
 }
 
 }  // namespace

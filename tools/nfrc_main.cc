@@ -76,11 +76,10 @@ int Run(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
 int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   using nfrc::NumberDomain;
   using nfrc::OptionSpec;
-  const nfrc::CommandLine line(
-      "refine", args,
-      {OptionSpec::Value("--out"), OptionSpec::Value("--omega"), OptionSpec::Value("--epsilon0"),
-       OptionSpec::Value("--factor"), OptionSpec::Value("--steps"),
-       OptionSpec::Value("--epsilons")});
+  const nfrc::CommandLine line("refine", args,
+                               {OptionSpec::Value("--out"), OptionSpec::Value("--omega"),
+                                OptionSpec::Value("--epsilon0"), OptionSpec::Value("--factor"),
+                                OptionSpec::Value("--steps"), OptionSpec::Value("--epsilons")});
   const CaseAndOut io = RequireCaseAndOut(line);
   const std::optional<double> omega = line.Number("--omega", NumberDomain::kPositive);
   if (!omega) throw line.Error("needs --omega W (rad per time unit)");
@@ -148,7 +147,8 @@ int Plot(const std::vector<std::string>& args) {
   }
   if (line.Flag("--logy")) script_args.push_back("--logy");
   for (const char* option : {"--output", "--labels", "--title"}) {
-    if (const auto value = line.Value(option)) script_args.insert(script_args.end(), {option, *value});
+    if (const auto value = line.Value(option))
+      script_args.insert(script_args.end(), {option, *value});
   }
   if (const auto xlim = line.Value("--xlim")) {
     const std::vector<double> range = line.NumberList("--xlim");

@@ -241,5 +241,4 @@ OutputDirectoryLock::~OutputDirectoryLock() {
   close(fd_);
 }
 
-
 }  // namespace nfrc

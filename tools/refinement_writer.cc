@@ -40,16 +40,15 @@ void RefinementWriter::OnLcpReference(const LcpReference& reference) {
   summary.reason = TerminationReason::kReachedLambdaBound;
   summary.message = "LCP-HBM at one frequency: Lemke " + ToString(reference.status);
   writer.Finish(summary);
-  document_["lcp"] = {
-      {"status", ToString(reference.status)},
-      {"pivots", reference.pivots},
-      {"complementarity_gap", reference.complementarity_gap},
-      {"min_gap", reference.min_gap},
-      {"max_abs", record["max_abs"]},
-      {"h1", record["h1"]},
-      {"min_force", Field(record, "min_force")},
-      {"signals_file", "lcp/" + record["file"].get<std::string>()},
-      {"samples_file", "lcp/" + record.value("samples_file", std::string())}};
+  document_["lcp"] = {{"status", ToString(reference.status)},
+                      {"pivots", reference.pivots},
+                      {"complementarity_gap", reference.complementarity_gap},
+                      {"min_gap", reference.min_gap},
+                      {"max_abs", record["max_abs"]},
+                      {"h1", record["h1"]},
+                      {"min_force", Field(record, "min_force")},
+                      {"signals_file", "lcp/" + record["file"].get<std::string>()},
+                      {"samples_file", "lcp/" + record.value("samples_file", std::string())}};
 }
 
 void RefinementWriter::OnStep(const RefinementStep& step) {

@@ -15,7 +15,6 @@ namespace nfrc {
 // interrupt keeps what was found. `source` is the case as written, recorded in branch.json.
 // Throws InputError for bad input and std::runtime_error for I/O.
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
-               const std::atomic<bool>* stop = nullptr,
-               const nlohmann::json& source = nullptr);
+               const std::atomic<bool>* stop = nullptr, const nlohmann::json& source = nullptr);
 
 }  // namespace nfrc

@@ -24,8 +24,7 @@ bool RowIsZero(const Eigen::SparseMatrix<double>& matrix, int dof) {
 
 // The time-domain form of each law, one overload per specification: std::visit below makes
 // the compiler require one for every law of the registry (nonlinearities/law_spec.h).
-void AddTimeLaw(const CoulombFrictionSpec& friction, const std::string& path,
-                TransientModel* out) {
+void AddTimeLaw(const CoulombFrictionSpec& friction, const std::string& path, TransientModel* out) {
   const int dof = friction.dof, other = friction.other;
   const bool massless = out->massless[dof] || (other >= 0 && out->massless[other]);
   // Sliding pins a massless, undamped slider to the spring force ∓μN (index 2): the integrator
@@ -54,16 +53,15 @@ void AddTimeLaw(const CubicSpringSpec& spring, const std::string& path, Transien
   out->law_paths.push_back(path);
 }
 
-void AddTimeLaw(const PolynomialSpringSpec& spring, const std::string& path,
-                TransientModel* out) {
+void AddTimeLaw(const PolynomialSpringSpec& spring, const std::string& path, TransientModel* out) {
   out->laws.push_back(std::make_unique<SpringTimeLaw>(std::string(spring.kType), spring.dof,
                                                       spring.other, spring.terms));
   out->law_paths.push_back(path);
 }
 
 void AddTimeLaw(const PenaltyContactSpec& penalty, const std::string& path, TransientModel* out) {
-  out->laws.push_back(std::make_unique<ContactTimeLaw>(std::string(penalty.kType),
-                                                       penalty.geometry, penalty.stiffness));
+  out->laws.push_back(std::make_unique<ContactTimeLaw>(std::string(penalty.kType), penalty.geometry,
+                                                       penalty.stiffness));
   out->law_paths.push_back(path);
 }
 
@@ -115,8 +113,7 @@ std::vector<bool> MasslessDofs(const Eigen::SparseMatrix<double>& mass) {
 
 }  // namespace
 
-TransientModel MakeTransientModel(const ModelDefinition& model,
-                                  const std::vector<LawSpec>& laws) {
+TransientModel MakeTransientModel(const ModelDefinition& model, const std::vector<LawSpec>& laws) {
   TransientModel out;
   out.model = model.model;
   out.forcing = model.forcing;

@@ -1,4 +1,6 @@
 // nfrc.solve_at: every solution of a case's branch at one ω (all crossings, across folds).
+#include "analysis/solve_at.h"
+
 #include <pybind11/eigen.h>
 
 #include <algorithm>
@@ -6,8 +8,6 @@
 
 #include "bindings.h"
 #include "core/errors.h"
-
-#include "analysis/solve_at.h"
 
 namespace nfrc::python {
 

@@ -1,9 +1,10 @@
 // nfrc.validate: the HBM branch checked against transient integration at chosen ω.
+#include "analysis/validate.h"
+
 #include <pybind11/stl.h>
 
 #include <iostream>
 
-#include "analysis/validate.h"
 #include "bindings.h"
 
 namespace nfrc::python {
@@ -70,8 +71,8 @@ void BindValidate(py::module_& m) {
   // Ctrl-C stopped it.
   m.def(
       "_validate",
-      [](const PyCase& c, const std::vector<double>& omegas, const std::string& start,
-         bool chirp, bool progress) {
+      [](const PyCase& c, const std::vector<double>& omegas, const std::string& start, bool chirp,
+         bool progress) {
         Case the_case = c.value;  // other Python threads may change `c` meanwhile
         ValidationSettings settings = the_case.validation;
         if (!omegas.empty()) settings.omegas = omegas;
@@ -84,8 +85,9 @@ void BindValidate(py::module_& m) {
         }
         if (!chirp) settings.chirp.enabled = false;
         if (settings.omegas.empty() && !settings.chirp.enabled) {
-          throw InputError("omegas: no frequencies to validate (give omegas or the case's "
-                           "validation.omega)");
+          throw InputError(
+              "omegas: no frequencies to validate (give omegas or the case's "
+              "validation.omega)");
         }
         InterruptWatch watch;
         ValidationWatch observer(watch);
@@ -110,8 +112,8 @@ void BindValidate(py::module_& m) {
             energy.append(cycle.mean_energy);
           }
           chirps.append(py::dict("direction"_a = run.direction,
-                                 "status"_a = ChirpStatusName(run.result.status),
-                                 "omega"_a = omega, "energy"_a = energy));
+                                 "status"_a = ChirpStatusName(run.result.status), "omega"_a = omega,
+                                 "energy"_a = energy));
         }
         py::dict out("complete"_a = result.complete, "points"_a = points, "chirps"_a = chirps);
         BranchView branch{std::move(result.trace), naming, interrupted};

@@ -44,14 +44,13 @@ CoulombFrictionSpec Friction(int dof, double mu, double normal_load) {
 
 TEST_CASE("Transient model: every harmonic law maps to its time-domain form") {
   const LinearModel model = TwoDof(1.0);
-  const std::vector<LawSpec> laws = {
-      Friction(1, 0.9, 10),
-      CubicSpringSpec{0, -1, 0.5},
-      PolynomialSpringSpec{0, 1, {{2, 1.0}}},
-      PenaltyContactSpec{Gap(0, 0.1), 100},
-      DlftContactSpec{{Gap(1, 0.1), 100, 0}},
-      DlftContactSpec{{Gap(0, 0.2), 0, 0}},
-      LcpContactSpec{{Gap(1, 0.3), 0, 0}, 0}};
+  const std::vector<LawSpec> laws = {Friction(1, 0.9, 10),
+                                     CubicSpringSpec{0, -1, 0.5},
+                                     PolynomialSpringSpec{0, 1, {{2, 1.0}}},
+                                     PenaltyContactSpec{Gap(0, 0.1), 100},
+                                     DlftContactSpec{{Gap(1, 0.1), 100, 0}},
+                                     DlftContactSpec{{Gap(0, 0.2), 0, 0}},
+                                     LcpContactSpec{{Gap(1, 0.3), 0, 0}, 0}};
   const TransientModel t = Make(model, laws);
   REQUIRE(t.laws.size() == 5);
   CHECK(t.laws[0]->type() == "coulomb_friction");
@@ -91,15 +90,13 @@ TEST_CASE("Transient model: massless DOFs and refused inputs name the field") {
   Eigen::MatrixXd m(2, 2);
   m << 1, 0.1, 0.1, 0;
   coupled.mass = m.sparseView();
-  CHECK_THROWS_WITH_AS(Make(coupled, {}), doctest::Contains("model.M"),
-                       InputError);
+  CHECK_THROWS_WITH_AS(Make(coupled, {}), doctest::Contains("model.M"), InputError);
 
   const LinearModel massed = TwoDof(1.0);
   CoulombFrictionSpec sign_law = Friction(1, 0.9, 6.5);
   sign_law.law = FrictionEquality::kSign;
   const std::vector<LawSpec> sign = {sign_law};
-  CHECK_THROWS_WITH_AS(Make(massed, sign),
-                       doctest::Contains("nonlinearities[0].law"), InputError);
+  CHECK_THROWS_WITH_AS(Make(massed, sign), doctest::Contains("nonlinearities[0].law"), InputError);
 }
 
 // The DFT of N uniform samples of a trigonometric polynomial of degree < N/2 is exact to
