@@ -1,6 +1,7 @@
 #include "models/matrix_market.h"
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include <chrono>
@@ -14,7 +15,9 @@ namespace nfrc {
 namespace {
 
 std::string TempDir() {
-  const auto dir = std::filesystem::temp_directory_path() / "nfrc_matrix_market_test";
+  // One directory per process: ctest runs test cases of this file in parallel.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("nfrc_matrix_market_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir.string();
 }

@@ -1,6 +1,7 @@
 #include "tools/json_input.h"
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include <filesystem>
@@ -13,7 +14,9 @@ namespace nfrc {
 namespace {
 
 std::string TempDir() {
-  const auto dir = std::filesystem::temp_directory_path() / "nfrc_json_input_test";
+  // One directory per process: ctest runs test cases of this file in parallel.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("nfrc_json_input_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir.string();
 }

@@ -1,6 +1,7 @@
 #include "tools/model_reader.h"
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -16,7 +17,9 @@ namespace nfrc {
 namespace {
 
 std::string TempDir() {
-  const auto dir = std::filesystem::temp_directory_path() / "nfrc_models_test";
+  // One directory per process: ctest runs test cases of this file in parallel.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("nfrc_models_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir.string();
 }
