@@ -112,6 +112,17 @@ std::vector<LawSignal> CoulombFriction::Signals(const NonlinearityContext& ctx,
           {"velocity", fine.ToTime(VelocityCoefficients(ctx, y, omega)).col(0)}};
 }
 
+std::optional<PhaseCount> CoulombFriction::StickPhases(const NonlinearityContext& ctx,
+                                                       const Eigen::VectorXd& r,
+                                                       const Eigen::VectorXd& v) const {
+  if (!HasStickBranch(parameters_.equality)) return std::nullopt;
+  std::vector<bool> stuck(static_cast<size_t>(r.size()));
+  for (Eigen::Index j = 0; j < r.size(); ++j) {
+    stuck[static_cast<size_t>(j)] = OnStickBranch(parameters_, v(j), r(j));
+  }
+  return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
+}
+
 std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityContext& ctx,
                                                            const Eigen::VectorXd& y, double omega,
                                                            const FourierTransform& fine) const {
@@ -121,14 +132,9 @@ std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityCon
   std::map<std::string, double> result;
   if (parameters_.limit > 0.0)
     result["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
-  if (HasStickBranch(parameters_.equality)) {
-    std::vector<bool> stuck(static_cast<size_t>(r.size()));
-    for (Eigen::Index j = 0; j < r.size(); ++j) {
-      stuck[static_cast<size_t>(j)] = OnStickBranch(parameters_, v(j), r(j));
-    }
-    const PhaseCount phases = CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
-    result["stick_phases"] = phases.count;
-    result["stick_fraction"] = phases.fraction;
+  if (const std::optional<PhaseCount> phases = StickPhases(ctx, r, v)) {
+    result["stick_phases"] = phases->count;
+    result["stick_fraction"] = phases->fraction;
   }
   return result;
 }
@@ -136,11 +142,10 @@ std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityCon
 LawSummary CoulombFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                       double omega, const FourierTransform& fine) const {
   LawSummary summary;
-  const std::map<std::string, double> diagnostics = Diagnostics(ctx, y, omega, fine);
-  if (const auto it = diagnostics.find("stick_phases"); it != diagnostics.end()) {
-    summary.phase =
-        LawSummary::Phase{"stick", static_cast<int>(it->second), diagnostics.at("stick_fraction")};
-  }
+  if (!HasStickBranch(parameters_.equality)) return summary;
+  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
+  const std::optional<PhaseCount> phases = StickPhases(ctx, signals[0].samples, signals[1].samples);
+  summary.phase = LawSummary::Phase{"stick", phases->count, phases->fraction};
   return summary;
 }
 

@@ -1,11 +1,13 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/linear_model.h"
 #include "core/nonlinearity.h"
 #include "nonlinearities/friction_equality.h"
+#include "nonlinearities/phase_count.h"
 
 namespace nfrc {
 
@@ -55,6 +57,11 @@ class CoulombFriction : public Nonlinearity {
                                        double omega) const;
 
  private:
+  // Stick phases of the force r and sliding velocity v samples; nullopt for a law without a
+  // stick branch. Phases shorter than the period of the highest harmonic are ripple.
+  std::optional<PhaseCount> StickPhases(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
+                                        const Eigen::VectorXd& v) const;
+
   int dof_;
   int other_;
   FrictionParameters parameters_;
