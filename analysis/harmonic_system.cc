@@ -133,9 +133,11 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     }
     // An overflow (absurd coefficients, a diverging iterate) is a numerical failure with a
     // cause, not a silent one.
-    const char* what = !residual->allFinite()                              ? "residual"
-                       : jacobian_y != nullptr && !jacobian_y->allFinite() ? "Jacobian"
-                       : jacobian_omega != nullptr && !jacobian_omega->allFinite()
+    // One pass over each output: a sum is finite exactly when every entry is (barring an
+    // overflow of the sum itself, which is as much an overflow to report).
+    const char* what = !std::isfinite(residual->sum())                              ? "residual"
+                       : jacobian_y != nullptr && !std::isfinite(jacobian_y->sum()) ? "Jacobian"
+                       : jacobian_omega != nullptr && !std::isfinite(jacobian_omega->sum())
                            ? "omega-derivative"
                            : nullptr;
     if (what != nullptr) {

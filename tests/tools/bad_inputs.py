@@ -214,6 +214,12 @@ case_error("validation_omega_negative", DUFFING, setitem(["validation"], {"omega
 case_error("validation_unknown_key", DUFFING, setitem(["validation"], {"omegas": [1]}),
            "validation.omegas")
 
+# A numerical failure caused by the input is a status with its cause (exit 3, points kept).
+overflow = write("coefficient_1e308.json",
+                 edited(DUFFING, setitem(["nonlinearities", 0, "coefficient"], 1e308)))
+command("coefficient_1e308", ["run", overflow, "--out", os.path.join(WORK, "out_overflow")],
+        EXIT_INCOMPLETE, "not finite", "coefficients")
+
 # --- the command line -----------------------------------------------------------------------
 duffing = os.path.join(SRC, "cases", "duffing.json")
 rod = os.path.join(SRC, "cases", "rod", "rigid_nh20.json")
