@@ -1,4 +1,5 @@
-// Benchmarks of the foundation (prints figures; asserts nothing):
+// Benchmarks of the foundation (prints figures; asserts nothing). Every run first times the
+// calibration unit LU(320) and prints wall times also in that unit:
 //   1. the Duffing FRC with H = 7 (cases/duffing.json): wall time, points, Newton per point;
 //   2. the friction oscillator FRC, N = 10, N_φ = 60 (cases/friction/frc_n10.json);
 //   3. condensation of sparse chain models (10^4 and 10^5 DOFs) onto 2 DOFs with H = 20:
@@ -50,6 +51,41 @@ double Median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+// The calibration unit: one dense LU with partial pivoting of a fixed 320 × 320 matrix, a
+// plain triple loop compiled with the project's flags. Figures divided by it survive a shared,
+// noisy machine better than seconds. Median of 7 (s).
+double LuUnitSeconds() {
+  constexpr int kN = 320;
+  std::vector<double> times;
+  for (int repeat = 0; repeat < 7; ++repeat) {
+    std::vector<double> a(kN * kN);
+    // Fixed, well-conditioned and pivot-demanding: a Hilbert-like part plus a shifted diagonal.
+    for (int i = 0; i < kN; ++i) {
+      for (int j = 0; j < kN; ++j) a[i * kN + j] = 1.0 / (1.0 + i + j) + (i == (j + 7) % kN);
+    }
+    const auto start = Clock::now();
+    for (int k = 0; k < kN; ++k) {
+      int pivot = k;
+      for (int i = k + 1; i < kN; ++i) {
+        if (std::abs(a[i * kN + k]) > std::abs(a[pivot * kN + k])) pivot = i;
+      }
+      if (pivot != k) {
+        for (int j = 0; j < kN; ++j) std::swap(a[k * kN + j], a[pivot * kN + j]);
+      }
+      for (int i = k + 1; i < kN; ++i) {
+        const double factor = a[i * kN + k] / a[k * kN + k];
+        a[i * kN + k] = factor;
+        for (int j = k + 1; j < kN; ++j) a[i * kN + j] -= factor * a[k * kN + j];
+      }
+    }
+    times.push_back(Seconds(start));
+    if (!std::isfinite(a[kN * kN - 1])) std::abort();  // keeps the loop from being elided
+  }
+  return Median(times);
+}
+
+double g_lu_unit = 0.0;  // s, set once at start
+
 void BenchCase(const std::string& name, int repeats) {
   const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/" + name;
   std::vector<double> times;
@@ -65,7 +101,8 @@ void BenchCase(const std::string& name, int repeats) {
   const auto& s = branch.summary;
   std::printf("%s: %s, %d points, %d folds, %d unknowns\n", name.c_str(), nfrc::ToString(s.reason),
               s.num_points, s.num_folds, static_cast<int>(branch.points.front().y.size()));
-  std::printf("  wall time      %.2f ms (median of %d runs)\n", 1e3 * Median(times), repeats);
+  std::printf("  wall time      %.2f ms = %.1f LU(320) (median of %d runs)\n", 1e3 * Median(times),
+              Median(times) / g_lu_unit, repeats);
   std::printf("  per point      %.3f ms\n", 1e3 * Median(times) / s.num_points);
   std::printf("  Newton/point   %.2f (%d iterations, %d rejected steps)\n",
               static_cast<double>(s.total_newton_iterations) / s.num_points,
@@ -350,7 +387,8 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
   }
   std::printf("transient %s at omega=%g from rest (%s): %s\n", name.c_str(), omega,
               result.method.c_str(), nfrc::ToString(result.status));
-  std::printf("  wall time      %.3f s (median of %d runs)\n", Median(times), repeats);
+  std::printf("  wall time      %.3f s = %.1f LU(320) (median of %d runs)\n", Median(times),
+              Median(times) / g_lu_unit, repeats);
   std::printf("  periods        %d (%.3f ms/period), %ld steps, %ld events\n", result.periods,
               1e3 * Median(times) / std::max(1, result.periods), result.steps, result.events);
   const nfrc::TransientStatistics& st = result.statistics;
@@ -371,6 +409,8 @@ int main(int argc, char** argv) {
     return sections.empty() ||
            std::find(sections.begin(), sections.end(), section) != sections.end();
   };
+  g_lu_unit = LuUnitSeconds();
+  std::printf("calibration: one LU(320) = %.3f ms on this machine now\n", 1e3 * g_lu_unit);
   if (run(1)) BenchCase("duffing.json", 5);
   if (run(2)) BenchCase("friction/frc_n10.json", 3);
   if (run(3)) {
