@@ -77,7 +77,7 @@ std::optional<FixedLambdaSolution> TraceToOmega(const Case& the_case, double ome
   if (run.branch != nullptr) run.branch->OnStart(branch.num_unknowns);
   ContinuationOptions options = the_case.continuation;
   options.progress = run.progress;
-  const Eigen::VectorXd guess = StartingGuess(the_case, *system, run.progress);
+  const Eigen::VectorXd guess = StartingGuess(the_case, *system, run.progress, run.stop);
   StopAtOmega observer(*system, the_case, options, omega, run, &branch);
   branch.branch = Trace(*system, options, &observer, &guess);
   if (Stopped(run)) {

@@ -91,11 +91,12 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
   return branch;
 }
 
-Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
-                              std::ostream* progress) {
+Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
+                              const std::atomic<bool>* stop) {
   const ContinuationOptions& options = the_case.continuation;
   const double omega = options.lambda_start;
   const Eigen::VectorXd linear = system.InitialGuess(omega);
+  if (stop != nullptr && stop->load()) return linear;
   FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
   if (solved.converged) return solved.y;
   const HarmonicSet& set = system.harmonic_set();
@@ -116,7 +117,8 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system,
   Case coarse_case = the_case;
   coarse_case.harmonics = HarmonicSet(coarse_h, set.odd_only());
   std::unique_ptr<HarmonicSystem> coarse_system = BuildSystem(coarse_case);
-  const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress);
+  const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress, stop);
+  if (stop != nullptr && stop->load()) return linear;
   const Eigen::VectorXd padded = ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
   solved = SolveAtFixedLambda(system, padded, omega, padded, options);
   return solved.converged ? solved.y : linear;
@@ -138,7 +140,7 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
                       << the_case.harmonics.num_samples() << " samples), omega "
                       << continuation.lambda_start << " -> " << continuation.lambda_end << "\n";
   }
-  const Eigen::VectorXd guess = StartingGuess(the_case, *system, options.progress);
+  const Eigen::VectorXd guess = StartingGuess(the_case, *system, options.progress, options.stop);
   result.branch = Trace(*system, continuation, &recorder, &guess);
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";

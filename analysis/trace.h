@@ -91,8 +91,10 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that
 // fails (nonsmooth laws with many harmonics), the start of the same case with about a third
 // of the harmonics (recursively) re-expressed in the full set and corrected. Returns the
-// linear guess if every rung fails (the engine then reports the failed start).
-Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress);
+// linear guess if every rung fails (the engine then reports the failed start). A raised
+// `stop` skips the remaining rungs (the engine then stops after its first point).
+Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
+                              const std::atomic<bool>* stop = nullptr);
 
 // Lemke stepping (continuation.method "lemke_stepping"): LCP-HBM at `stepping.points`
 // evenly spaced ω plus the signals_at frequencies.
