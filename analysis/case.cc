@@ -218,6 +218,7 @@ void Case::Validate() const {
     if (stepping.points < 2) throw InputError("continuation.points: must be at least 2");
   }
   validation.Validate();
+  stability.Validate();
   CheckProblemSize(DimensionsOf(*this));
 }
 

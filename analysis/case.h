@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "analysis/harmonic_system.h"
+#include "analysis/stability.h"
 #include "analysis/validation_settings.h"
 #include "continuation/options.h"
 #include "core/harmonic_set.h"
@@ -44,6 +45,7 @@ struct Case {
   std::vector<std::string> output_names;  // how the outputs are named (index or DOF name)
   std::vector<double> signals_at;         // ω at which time signals are resolved
   ValidationSettings validation;
+  StabilityOptions stability;  // Hill's method on every traced point, bifurcations
 
   // Cross-field checks of a case built in memory or changed after reading; throws InputError
   // naming the case-file field ("nonlinearities[1].mu: must be non-negative").

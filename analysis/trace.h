@@ -11,6 +11,7 @@
 #include "analysis/case.h"
 #include "analysis/harmonic_system.h"
 #include "analysis/solution_report.h"
+#include "analysis/stability.h"
 #include "continuation/continuation.h"
 #include "core/lemke.h"
 
@@ -41,6 +42,7 @@ struct TracePoint {
   std::optional<LemkeRecord> lemke;  // Lemke stepping only
   bool coexisting_contact = false;   // Lemke stepping: a warm start found one
   std::optional<ContactBranchRecord> contact_branch;
+  FloquetResult floquet;  // Hill's method; computed = false when stability is off
 };
 
 // A fold with the response measures at it.
@@ -58,6 +60,7 @@ class TraceObserver {
   virtual void OnStart(int /*num_unknowns*/) {}
   virtual bool OnPoint(const TracePoint& /*point*/) { return true; }
   virtual void OnFold(const TraceFold& /*fold*/) {}
+  virtual void OnBifurcation(const Bifurcation& /*bifurcation*/) {}
   virtual void OnSignals(const SolutionSignals& /*signals*/) {}
 };
 
@@ -73,6 +76,7 @@ struct TraceResult {
   Branch branch;  // points, folds and the summary (termination reason, message, counts)
   std::vector<TracePoint> points;
   std::vector<TraceFold> folds;
+  std::vector<Bifurcation> bifurcations;  // in branch order
   std::vector<SolutionSignals> signals;
   int num_unknowns = 0;
 };

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "analysis/point_measures.h"
+
+namespace nfrc {
+
+// Settings of the stability analysis of traced points (case field "stability").
+struct StabilityOptions {
+  // Hill's method at every point of a trace; off trades the stability of a curve for speed.
+  bool enabled = true;
+  // A multiplier counts as unstable when |μ| > 1 + unstable_tolerance: room for the
+  // truncation error of Hill's exponents on points that are stable in theory (|μ| = 1 at a
+  // fold or on an undamped orbit).
+  double unstable_tolerance = 1e-6;
+  // Bifurcations are localised in ω to this relative accuracy (as folds are).
+  double bifurcation_tolerance = 1e-6;
+  int max_bifurcation_iterations = 40;
+  // Throws InputError("stability.<field>: ...") for a bad value.
+  void Validate() const;
+};
+
+// Floquet exponents and multipliers of one periodic solution.
+struct FloquetResult {
+  bool computed = false;
+  std::string message;   // why not computed, or what was approximated
+  std::string method;    // "hill" or "monodromy"
+  // The physical exponents s (1/time unit), one per family s + ikω of Hill's spectrum,
+  // and the multipliers μ = exp(sT), T = 2π/ω, both sorted by decreasing |μ|.
+  std::vector<std::complex<double>> exponents;
+  std::vector<std::complex<double>> multipliers;
+  double max_modulus = 0.0;  // largest |μ|
+  int num_unstable = 0;      // multipliers with |μ| > 1 + unstable_tolerance
+  bool stable() const { return computed && num_unstable == 0; }
+  double seconds = 0.0;      // wall time of the analysis
+};
+
+enum class BifurcationType { kFold, kBranchPoint, kPeriodDoubling, kNeimarkSacker };
+const char* ToString(BifurcationType type);  // "fold", "branch_point", ...
+
+// A change of stability along a branch, localised between two traced points.
+struct Bifurcation {
+  BifurcationType type = BifurcationType::kFold;
+  double omega = 0.0;
+  double omega_accuracy = 0.0;  // |ω error| bound reached by the localisation
+  bool converged = false;       // accuracy reached within max_bifurcation_iterations
+  int iterations = 0;
+  int after_point = 0;          // index of the traced point preceding it
+  Eigen::VectorXd y;            // the solution there (the HarmonicSystem's unknowns)
+  PointMeasures measures;
+  // The multipliers that cross the unit circle there (one real, or a complex pair).
+  std::vector<std::complex<double>> crossing_multipliers;
+};
+
+}  // namespace nfrc
