@@ -50,6 +50,8 @@ class HarmonicSystem : public ContinuationProblem {
   const HarmonicSet& harmonic_set() const { return fourier_.harmonic_set(); }
   const LinearModel& model() const { return model_; }
   int num_displacement_unknowns() const { return num_displacement_unknowns_; }
+  // Model DOF of each retained position (the condensed unknowns' DOF order).
+  const std::vector<int>& retained() const { return retained_; }
   const std::vector<std::unique_ptr<Nonlinearity>>& laws() const { return laws_; }
   const NonlinearityContext& context(int law) const { return contexts_[law]; }
   // Why the last Evaluate returned false.

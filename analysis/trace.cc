@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <ostream>
 
+#include "analysis/bifurcation.h"
 #include "continuation/fixed_lambda.h"
 #include "core/errors.h"
 
@@ -19,6 +20,7 @@ class TraceRecorder : public ContinuationObserver {
         system_(system),
         options_(options),
         reporter_(system, the_case.output_dofs, the_case.output_names),
+        monitor_(system, the_case.stability, the_case.continuation),
         result_(result) {}
 
   bool OnPoint(const BranchPoint& point, int index) override {
@@ -28,6 +30,10 @@ class TraceRecorder : public ContinuationObserver {
     record.index = index;
     record.point = point;
     record.measures = reporter_.Measure(point.y, point.lambda);
+    if (case_.stability.enabled) {
+      record.floquet = monitor_.Analyze(point.y, point.lambda);
+      if (result_->points.size() >= 2) CheckBifurcation(index);
+    }
     bool go_on = options_.observer == nullptr || options_.observer->OnPoint(result_->points.back());
     if (options_.solve_signals) {
       for (double omega : case_.signals_at) {
@@ -55,10 +61,33 @@ class TraceRecorder : public ContinuationObserver {
   }
 
  private:
+  // A change of stability between the last two points (the fold the engine found between
+  // them, if any, is the +1 crossing there).
+  void CheckBifurcation(int index) {
+    const TracePoint& before = result_->points[result_->points.size() - 2];
+    const TracePoint& after = result_->points.back();
+    const Fold* fold = nullptr;
+    if (!result_->folds.empty() && result_->folds.back().fold.after_point == before.index) {
+      fold = &result_->folds.back().fold;
+    }
+    std::optional<Bifurcation> found =
+        monitor_.Between(before.point, before.floquet, after.point, after.floquet, fold);
+    if (!found) return;
+    found->after_point = index - 1;
+    found->measures = reporter_.analyzer().Measure(found->y, found->omega);
+    if (options_.progress != nullptr) {
+      *options_.progress << "nfrc: " << ToString(found->type) << " at omega = " << found->omega
+                         << " (+/- " << found->omega_accuracy << ")\n";
+    }
+    result_->bifurcations.push_back(std::move(*found));
+    if (options_.observer != nullptr) options_.observer->OnBifurcation(result_->bifurcations.back());
+  }
+
   const Case& case_;
   HarmonicSystem& system_;
   const TraceOptions& options_;
   SolutionReporter reporter_;
+  StabilityMonitor monitor_;
   TraceResult* result_;
   std::optional<BranchPoint> previous_;
 };

@@ -80,6 +80,20 @@ class Nonlinearity {
                         Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                         Eigen::VectorXd* d_omega) const = 0;
 
+  // Hill's method (analysis/hill.h) linearises the law for a perturbation e^{st}p(θ) of the
+  // periodic solution y, whose velocity is (s + ωD)p. Adds ∂residual/∂y of the law as a law of
+  // the state (x, ẋ = ωDx) to `jacobian` and ∂residual/∂(velocity coefficients of its DOFs),
+  // placed in the columns of those DOFs, to `velocity_jacobian` (both square, size of y).
+  // Default: Evaluate's Jacobian and no velocity dependence, right for laws of the
+  // displacement alone.
+  virtual void LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                     double omega, Eigen::MatrixXd* jacobian,
+                                     Eigen::MatrixXd* velocity_jacobian) const {
+    (void)velocity_jacobian;
+    Eigen::VectorXd scratch = Eigen::VectorXd::Zero(y.size());
+    Evaluate(ctx, y, omega, scratch, jacobian, nullptr);
+  }
+
   // Whether the own unknowns are signals in the HarmonicSet layout (blocks of
   // NumCoefficients), which a start from fewer harmonics may re-express; false for samples.
   virtual bool OwnUnknownsAreCoefficients() const { return true; }

@@ -94,6 +94,26 @@ void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
   }
 }
 
+void CoulombFriction::LinearizeForStability(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega,
+                                            Eigen::MatrixXd* jacobian,
+                                            Eigen::MatrixXd* velocity_jacobian) const {
+  Eigen::VectorXd scratch = Eigen::VectorXd::Zero(y.size());
+  Evaluate(ctx, y, omega, scratch, jacobian, nullptr);
+  if (velocity_jacobian == nullptr) return;
+  const FourierTransform& fourier = *ctx.fourier;
+  const int nc = ctx.num_coefficients();
+  const Eigen::MatrixXd v = fourier.ToTime(VelocityCoefficients(ctx, y, omega));
+  const Eigen::MatrixXd r = fourier.ToTime(y.segment(ctx.own_offset, nc));
+  Eigen::VectorXd psi_v(v.rows());
+  for (Eigen::Index j = 0; j < v.rows(); ++j) {
+    psi_v(j) = EvaluateFrictionEquality(parameters_, v(j, 0), r(j, 0)).d_velocity;
+  }
+  const Eigen::MatrixXd block = fourier.WeightedProduct(psi_v);
+  velocity_jacobian->block(ctx.own_offset, ctx.DofOffset(0), nc, nc) += block;
+  if (other_ >= 0) velocity_jacobian->block(ctx.own_offset, ctx.DofOffset(1), nc, nc) -= block;
+}
+
 void CoulombFriction::InitialOwnUnknowns(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                          double omega, Eigen::Ref<Eigen::VectorXd> own) const {
   const Eigen::MatrixXd v = ctx.fourier->ToTime(VelocityCoefficients(ctx, y, omega));

@@ -30,6 +30,10 @@ class CoulombFriction : public Nonlinearity {
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
+  // The Evaluate Jacobian, and the velocity part P diag(Ψ_v) E in the equality's rows.
+  void LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                             Eigen::MatrixXd* jacobian,
+                             Eigen::MatrixXd* velocity_jacobian) const override;
   // Starts from the sliding force r = −μN sign(v) of the given displacements.
   void InitialOwnUnknowns(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                           Eigen::Ref<Eigen::VectorXd> own) const override;

@@ -104,6 +104,24 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
   }
 }
 
+void DlftContact::LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                        double omega, Eigen::MatrixXd* jacobian,
+                                        Eigen::MatrixXd* /*velocity_jacobian*/) const {
+  if (jacobian == nullptr) return;
+  const Prediction p = PredictAt(ctx, y, omega);
+  // ∂(nλ)/∂x_dof = n·ε·[λ > 0]·n = ε·[λ > 0]; the pair adds the usual ± blocks.
+  const Eigen::MatrixXd block = ctx.fourier->WeightedProduct(EpsilonFor(ctx) * p.mask);
+  const int nc = ctx.num_coefficients();
+  const int row_a = ctx.DofOffset(0);
+  jacobian->block(row_a, row_a, nc, nc) += block;
+  if (spec_.geometry.other >= 0) {
+    const int row_b = ctx.DofOffset(1);
+    jacobian->block(row_a, row_b, nc, nc) -= block;
+    jacobian->block(row_b, row_a, nc, nc) -= block;
+    jacobian->block(row_b, row_b, nc, nc) += block;
+  }
+}
+
 std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const {

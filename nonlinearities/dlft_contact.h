@@ -37,6 +37,13 @@ class DlftContact : public Nonlinearity {
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
+  // The penalty-equivalent Jacobian ε on the samples in contact. Evaluate's Jacobian also
+  // differentiates the prediction through the condensed operator Z_red(ω), which belongs to
+  // the periodic solve, not to the contact: a perturbed motion sees the contact as a spring ε
+  // where the corrected force is positive (the DLFT solution penetrates by λ/ε there).
+  void LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                             Eigen::MatrixXd* jacobian,
+                             Eigen::MatrixXd* velocity_jacobian) const override;
   std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                  double omega, const FourierTransform& fine) const override;
   LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,

@@ -1,0 +1,151 @@
+#include "analysis/bifurcation.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "continuation/fixed_lambda.h"
+
+namespace nfrc {
+namespace {
+
+using Complex = std::complex<double>;
+
+enum class Crossing { kPlusOne, kMinusOne, kComplex };
+
+// |Im μ| up to this fraction of |μ| is a real multiplier: Hill's exponents of a real pencil
+// are real or conjugate pairs up to round-off, far below it, while a complex pair that has
+// just crossed sits at a finite angle.
+constexpr double kRealTolerance = 1e-4;
+
+Crossing TypeOf(Complex mu) {
+  if (std::abs(mu.imag()) > kRealTolerance * std::abs(mu)) return Crossing::kComplex;
+  return mu.real() > 0.0 ? Crossing::kPlusOne : Crossing::kMinusOne;
+}
+
+// The multiplier of a type nearest the unit circle (smallest |log|μ||).
+std::optional<Complex> Nearest(const FloquetResult& result, Crossing type) {
+  std::optional<Complex> best;
+  for (const Complex& mu : result.multipliers) {
+    if (TypeOf(mu) != type) continue;
+    if (!best || std::abs(std::log(std::abs(mu))) < std::abs(std::log(std::abs(*best)))) best = mu;
+  }
+  return best;
+}
+
+double LogModulus(const FloquetResult& result, Crossing type) {
+  const std::optional<Complex> mu = Nearest(result, type);
+  return mu ? std::log(std::abs(*mu)) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<Complex> CrossingMultipliers(const FloquetResult& result, Crossing type) {
+  const std::optional<Complex> mu = Nearest(result, type);
+  if (!mu) return {};
+  if (type == Crossing::kComplex) return {*mu, std::conj(*mu)};
+  return {*mu};
+}
+
+}  // namespace
+
+StabilityMonitor::StabilityMonitor(HarmonicSystem& system, const StabilityOptions& options,
+                                   const ContinuationOptions& continuation)
+    : system_(system), options_(options), continuation_(continuation) {}
+
+FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega) {
+  HillOptions hill;
+  hill.unstable_tolerance = options_.unstable_tolerance;
+  try {
+    return SolveHill(AssembleHillPencil(system_, y, omega), hill);
+  } catch (const std::runtime_error& error) {
+    FloquetResult failed;
+    failed.method = "hill";
+    failed.message = error.what();
+    return failed;
+  }
+}
+
+std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
+                                                     const FloquetResult& floquet_a,
+                                                     const BranchPoint& b,
+                                                     const FloquetResult& floquet_b,
+                                                     const Fold* fold) {
+  if (!floquet_a.computed || !floquet_b.computed ||
+      floquet_a.num_unstable == floquet_b.num_unstable) {
+    return std::nullopt;
+  }
+  // The multiplier that crossed: the least unstable one on the more unstable side.
+  const FloquetResult& more = floquet_b.num_unstable > floquet_a.num_unstable ? floquet_b : floquet_a;
+  std::optional<Complex> crossed;
+  for (const Complex& mu : more.multipliers) {
+    if (std::abs(mu) > 1.0 + options_.unstable_tolerance &&
+        (!crossed || std::abs(mu) < std::abs(*crossed))) {
+      crossed = mu;
+    }
+  }
+  const Crossing type = TypeOf(*crossed);
+  Bifurcation bifurcation;
+  if (type == Crossing::kPlusOne && fold != nullptr) {
+    bifurcation.type = BifurcationType::kFold;
+    bifurcation.omega = fold->lambda;
+    bifurcation.omega_accuracy = fold->lambda_accuracy;
+    bifurcation.converged = fold->converged;
+    bifurcation.iterations = fold->iterations;
+    bifurcation.y = fold->y;
+    bifurcation.crossing_multipliers = CrossingMultipliers(Analyze(fold->y, fold->lambda), type);
+    return bifurcation;
+  }
+  bifurcation.type = type == Crossing::kPlusOne    ? BifurcationType::kBranchPoint
+                     : type == Crossing::kMinusOne ? BifurcationType::kPeriodDoubling
+                                                   : BifurcationType::kNeimarkSacker;
+
+  double wa = a.lambda, wb = b.lambda;
+  Eigen::VectorXd ya = a.y, yb = b.y;
+  double fa = LogModulus(floquet_a, type), fb = LogModulus(floquet_b, type);
+  const int count_a = floquet_a.num_unstable;
+  // Until an iterate exists, report the end nearer the crossing.
+  const bool b_nearer = std::abs(fb) < std::abs(fa);
+  bifurcation.omega = b_nearer ? wb : wa;
+  bifurcation.y = b_nearer ? yb : ya;
+  bifurcation.crossing_multipliers = CrossingMultipliers(b_nearer ? floquet_b : floquet_a, type);
+  bifurcation.omega_accuracy = std::abs(wb - wa);
+  int last_side = 0;  // 1: a was replaced last, 2: b (Illinois halves the other end's value)
+  for (int iteration = 1; iteration <= options_.max_bifurcation_iterations; ++iteration) {
+    double w = 0.5 * (wa + wb);
+    if (std::isfinite(fa) && std::isfinite(fb) && (fa < 0.0) != (fb < 0.0)) {
+      const double secant = (wa * fb - wb * fa) / (fb - fa);
+      if ((secant - wa) * (secant - wb) < 0.0) w = secant;
+    }
+    const double t = (w - wa) / (wb - wa);
+    const Eigen::VectorXd guess = (1.0 - t) * ya + t * yb;
+    const FixedLambdaSolution solved = SolveAtFixedLambda(system_, guess, w, yb, continuation_);
+    if (!solved.converged) break;
+    const FloquetResult at = Analyze(solved.y, w);
+    if (!at.computed) break;
+    bifurcation.iterations = iteration;
+    bifurcation.omega = w;
+    bifurcation.y = solved.y;
+    bifurcation.crossing_multipliers = CrossingMultipliers(at, type);
+    const double f = LogModulus(at, type);
+    if (at.num_unstable == count_a) {
+      wa = w;
+      ya = solved.y;
+      fa = f;
+      if (last_side == 1) fb *= 0.5;
+      last_side = 1;
+    } else {
+      wb = w;
+      yb = solved.y;
+      fb = f;
+      if (last_side == 2) fa *= 0.5;
+      last_side = 2;
+    }
+    bifurcation.omega_accuracy = std::abs(wb - wa);
+    if (bifurcation.omega_accuracy <= options_.bifurcation_tolerance * std::abs(w)) {
+      bifurcation.converged = true;
+      break;
+    }
+  }
+  return bifurcation;
+}
+
+}  // namespace nfrc

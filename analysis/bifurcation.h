@@ -1,0 +1,44 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <optional>
+
+#include "analysis/harmonic_system.h"
+#include "analysis/hill.h"
+#include "analysis/stability.h"
+#include "continuation/branch.h"
+#include "continuation/options.h"
+
+namespace nfrc {
+
+// Stability of the points of a traced branch (Hill's method) and the bifurcations between
+// them: a change of the number of unstable multipliers between two consecutive points is
+// classified by the multiplier that crossed (the least unstable one on the more unstable
+// side) and localised in ω.
+class StabilityMonitor {
+ public:
+  // Keeps references; `continuation` gives the fixed-ω Newton its tolerances.
+  StabilityMonitor(HarmonicSystem& system, const StabilityOptions& options,
+                   const ContinuationOptions& continuation);
+
+  // Hill's multipliers at a solution; a failure is a result with computed = false.
+  FloquetResult Analyze(const Eigen::VectorXd& y, double omega);
+
+  // The bifurcation between consecutive points a and b with their Floquet results, if their
+  // unstable counts differ. `fold` is the fold the engine located between them, if any: a
+  // real multiplier through +1 there is that fold (its ω and accuracy are the engine's).
+  // Otherwise ω is monotone on the segment and the crossing is localised by the Illinois
+  // method on log|μ| of the crossing multiplier, each trial solved by Newton at fixed ω from
+  // the interpolated solution and its side decided by the unstable count; the accuracy is the
+  // final bracket's width.
+  std::optional<Bifurcation> Between(const BranchPoint& a, const FloquetResult& floquet_a,
+                                     const BranchPoint& b, const FloquetResult& floquet_b,
+                                     const Fold* fold);
+
+ private:
+  HarmonicSystem& system_;
+  const StabilityOptions& options_;
+  const ContinuationOptions& continuation_;
+};
+
+}  // namespace nfrc

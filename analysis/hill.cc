@@ -1,0 +1,360 @@
+#include "analysis/hill.h"
+
+#include <Eigen/SparseLU>
+#include <Spectra/GenEigsRealShiftSolver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace nfrc {
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+using Complex = std::complex<double>;
+
+// The real shift of shift-invert, as a fraction of ω: off the imaginary axis so that the
+// exponent 0 of a fold does not make the shifted Hill matrix singular.
+constexpr double kShiftFraction = 1e-2;
+// ν = 1/(s − σ) below this fraction of the largest |ν| is an infinite exponent (algebraic
+// rows); finite copies s + ikω have |ν| ≳ 1/(Hω), many orders above.
+constexpr double kInfiniteRatio = 1e-10;
+// Copies of one family have centroids exactly Δk apart; within this fraction of Δk of the
+// boundary ±Δk/2 both copies may be candidates and one is kept.
+constexpr double kBoundaryBand = 0.15;
+// Two boundary candidates are copies of one family if their multipliers agree to this.
+constexpr double kSameMultiplier = 1e-3;
+
+// Adds scale·(A ⊗ B) in the DOF-major layout: entry (i·nc + r, j·nc + c) = scale·A_ij·B_rc.
+void AddKronecker(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b, double scale,
+                  Triplets* triplets) {
+  const int nc = static_cast<int>(b.rows());
+  for (int k = 0; k < a.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) {
+      for (int r = 0; r < nc; ++r) {
+        for (int c = 0; c < nc; ++c) {
+          if (b(r, c) != 0.0) {
+            triplets->emplace_back(static_cast<int>(it.row()) * nc + r,
+                                   static_cast<int>(it.col()) * nc + c, scale * it.value() * b(r, c));
+          }
+        }
+      }
+    }
+  }
+}
+
+// Where an index of the condensed unknowns y lands in the full Hill unknowns: a relative
+// displacement x − u at a DOF with an obstacle is two entries (x: +1, u: −1).
+struct Target {
+  int index;
+  double sign;
+};
+
+class IndexMap {
+ public:
+  IndexMap(const HarmonicSystem& system, const std::vector<int>& obstacle_offset, int own_offset)
+      : system_(system), obstacle_offset_(obstacle_offset), own_offset_(own_offset) {}
+
+  // Entries of the full unknowns that condensed unknown j stands for.
+  std::vector<Target> Of(int j) const {
+    const int nx = system_.num_displacement_unknowns();
+    if (j >= nx) return {{own_offset_ + j - nx, 1.0}};
+    const int nc = system_.harmonic_set().NumCoefficients();
+    const int local = j / nc, c = j % nc;
+    const int dof = system_.retained()[static_cast<size_t>(local)];
+    std::vector<Target> targets{{dof * nc + c, 1.0}};
+    if (obstacle_offset_[local] >= 0) targets.push_back({obstacle_offset_[local] + c, -1.0});
+    return targets;
+  }
+
+ private:
+  const HarmonicSystem& system_;
+  const std::vector<int>& obstacle_offset_;
+  int own_offset_;
+};
+
+// Adds a condensed-layout law matrix to a full-layout one (rows and columns mapped alike:
+// the obstacle row takes the reaction −f_nl).
+void AddMapped(const Eigen::MatrixXd& law, const IndexMap& map, Triplets* triplets) {
+  for (int j = 0; j < law.cols(); ++j) {
+    const std::vector<Target> columns = map.Of(j);
+    for (int i = 0; i < law.rows(); ++i) {
+      const double value = law(i, j);
+      if (value == 0.0) continue;
+      for (const Target& row : map.Of(i)) {
+        for (const Target& column : columns) {
+          triplets->emplace_back(row.index, column.index, row.sign * column.sign * value);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega) {
+  Eigen::VectorXd residual;
+  if (!system.Evaluate(y, omega, &residual, nullptr, nullptr)) {
+    throw std::runtime_error("Hill: the system cannot be evaluated at omega = " +
+                             std::to_string(omega) + ": " + system.last_error());
+  }
+  const LinearModel& model = system.model();
+  const HarmonicSet& set = system.harmonic_set();
+  const int nc = set.NumCoefficients();
+  const int n = static_cast<int>(model.mass.rows());
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(nc, nc);
+  const Eigen::MatrixXd& d = system.fourier().DerivativeMatrix();
+
+  // Flexible obstacles: one massless block per retained DOF backed by one, after the DOFs.
+  const int num_retained = system.num_displacement_unknowns() / nc;
+  std::vector<int> obstacle_offset(static_cast<size_t>(num_retained), -1);
+  std::vector<double> obstacle_stiffness(static_cast<size_t>(num_retained), 0.0);
+  int next = n * nc;
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    const std::vector<double> compliance = system.laws()[i]->ObstacleCompliance();
+    for (size_t j = 0; j < compliance.size(); ++j) {
+      if (compliance[j] <= 0.0) continue;
+      const int local = system.context(static_cast<int>(i)).local_dofs[j];
+      obstacle_offset[static_cast<size_t>(local)] = next;
+      obstacle_stiffness[static_cast<size_t>(local)] = 1.0 / compliance[j];
+      next += nc;
+    }
+  }
+  const int own_offset = next;
+  const int size = own_offset + system.NumUnknowns() - system.num_displacement_unknowns();
+
+  Triplets t0, t1, t2;
+  AddKronecker(model.stiffness, identity, 1.0, &t0);
+  AddKronecker(model.damping, d, omega, &t0);
+  AddKronecker(model.mass, d * d, omega * omega, &t0);
+  AddKronecker(model.damping, identity, 1.0, &t1);
+  AddKronecker(model.mass, d, 2.0 * omega, &t1);
+  AddKronecker(model.mass, identity, 1.0, &t2);
+  for (int local = 0; local < num_retained; ++local) {
+    const int offset = obstacle_offset[static_cast<size_t>(local)];
+    if (offset < 0) continue;
+    for (int c = 0; c < nc; ++c) {
+      t0.emplace_back(offset + c, offset + c, obstacle_stiffness[static_cast<size_t>(local)]);
+    }
+  }
+  const IndexMap map(system, obstacle_offset, own_offset);
+  const int m = system.NumUnknowns();
+  for (size_t i = 0; i < system.laws().size(); ++i) {
+    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(m, m);
+    Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(m, m);
+    system.laws()[i]->LinearizeForStability(system.context(static_cast<int>(i)), y, omega,
+                                            &jacobian, &velocity);
+    AddMapped(jacobian, map, &t0);
+    AddMapped(velocity, map, &t1);
+  }
+
+  HillPencil pencil;
+  pencil.set = set;
+  pencil.omega = omega;
+  for (auto [matrix, triplets] : {std::pair{&pencil.d0, &t0}, {&pencil.d1, &t1}, {&pencil.d2, &t2}}) {
+    matrix->resize(size, size);
+    matrix->setFromTriplets(triplets->begin(), triplets->end());
+  }
+  for (int dof = 0; dof < n; ++dof) {
+    if (model.mass.coeff(dof, dof) > 0.0) {
+      pencil.signal_offsets.push_back(dof * nc);
+      for (int c = 0; c < nc; ++c) pencil.dynamic.push_back(dof * nc + c);
+      pencil.state_dimension += 2;
+    } else if (model.damping.coeff(dof, dof) > 0.0) {
+      pencil.state_dimension += 1;  // a massless damped DOF is a first-order state
+    }
+  }
+  return pencil;
+}
+
+namespace {
+
+// Applies the shift-inverted linearised pencil (A − σB)⁻¹B on z = (q, w = s q_dynamic):
+//   A = [[−Δ0, 0], [0, I]], B = [[Δ1, Δ2 S_dᵀ], [S_d, 0]],
+// so that (A − σB)⁻¹B z = ν z exactly when A z = (σ + 1/ν) B z. One sparse LU of the Hill
+// matrix H(σ) = Δ0 + σΔ1 + σ²Δ2 serves every product.
+class ShiftInvertOperator {
+ public:
+  using Scalar = double;
+
+  ShiftInvertOperator(const HillPencil& pencil, double sigma)
+      : pencil_(pencil), n_(static_cast<int>(pencil.d0.rows())), sigma_(sigma) {
+    Eigen::SparseMatrix<double> hill = pencil.d0 + sigma * pencil.d1 + sigma * sigma * pencil.d2;
+    hill.makeCompressed();
+    lu_.analyzePattern(hill);
+    lu_.factorize(hill);
+    ok_ = lu_.info() == Eigen::Success;
+  }
+  bool ok() const { return ok_; }
+  Eigen::Index rows() const { return n_ + static_cast<Eigen::Index>(pencil_.dynamic.size()); }
+  Eigen::Index cols() const { return rows(); }
+  void set_shift(double /*sigma*/) {}  // fixed at construction (the LU is of H(σ))
+
+  void perform_op(const double* x_in, double* y_out) const {
+    const int nd = static_cast<int>(pencil_.dynamic.size());
+    Eigen::Map<const Eigen::VectorXd> q(x_in, n_), w(x_in + n_, nd);
+    Eigen::VectorXd r1(nd), w_full = Eigen::VectorXd::Zero(n_);
+    for (int i = 0; i < nd; ++i) {
+      r1(i) = q(pencil_.dynamic[static_cast<size_t>(i)]);
+      w_full(pencil_.dynamic[static_cast<size_t>(i)]) = w(i) + sigma_ * r1(i);
+    }
+    const Eigen::VectorXd rhs = pencil_.d1 * q + pencil_.d2 * w_full;
+    Eigen::Map<Eigen::VectorXd> out_q(y_out, n_), out_w(y_out + n_, nd);
+    out_q = -lu_.solve(rhs);
+    for (int i = 0; i < nd; ++i) out_w(i) = r1(i) + sigma_ * out_q(pencil_.dynamic[static_cast<size_t>(i)]);
+  }
+
+ private:
+  const HillPencil& pencil_;
+  int n_;
+  double sigma_;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  bool ok_ = false;
+};
+
+// The harmonic centroid k̄ of an eigenvector's DOF signals, and their share of its norm.
+double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* weight) {
+  const HarmonicSet& set = pencil.set;
+  double moment = 0.0, total = 0.0;
+  for (int offset : pencil.signal_offsets) {
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      const int k = set.harmonics()[static_cast<size_t>(p)];
+      const Complex a = q(offset + set.CosIndex(p));
+      if (k == 0) {
+        total += std::norm(a);
+        continue;
+      }
+      const Complex b = q(offset + set.SinIndex(p));
+      const double plus = std::norm(0.5 * (a - Complex(0, 1) * b));
+      const double minus = std::norm(0.5 * (a + Complex(0, 1) * b));
+      moment += k * (plus - minus);
+      total += plus + minus;
+    }
+  }
+  *weight = total / std::max(q.squaredNorm(), 1e-300);
+  return total > 0.0 ? moment / total : 0.0;
+}
+
+struct Candidate {
+  Complex exponent;
+  double centroid;
+};
+
+// One representative per family (see SolveHill), sorted by decreasing |μ|.
+void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
+                    const HillOptions& options, FloquetResult* result) {
+  const double spacing = pencil.set.odd_only() ? 2.0 : 1.0;
+  const double half = 0.5 * spacing, band = kBoundaryBand * spacing;
+  const double period = 2.0 * std::numbers::pi / pencil.omega;
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return std::abs(a.centroid) < std::abs(b.centroid);
+  });
+  std::vector<Complex> accepted;
+  for (const Candidate& c : candidates) {
+    const double distance = std::abs(c.centroid);
+    if (distance > half + band) break;
+    const Complex mu = std::exp(c.exponent * period);
+    if (distance >= half - band) {
+      const bool copy = std::any_of(accepted.begin(), accepted.end(), [&](const Complex& other) {
+        return std::abs(other - mu) <= kSameMultiplier * std::max(1.0, std::abs(mu));
+      });
+      if (copy) continue;
+    }
+    accepted.push_back(mu);
+    // Report the exponent folded into the strip |Im s| ≤ ω/2 (copies share μ).
+    const double im = std::remainder(c.exponent.imag(), pencil.omega);
+    result->exponents.emplace_back(c.exponent.real(), im);
+  }
+  std::vector<size_t> order(accepted.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return std::abs(accepted[a]) > std::abs(accepted[b]); });
+  std::vector<Complex> exponents;
+  for (size_t i : order) {
+    result->multipliers.push_back(accepted[i]);
+    exponents.push_back(result->exponents[i]);
+  }
+  result->exponents = exponents;
+  result->max_modulus = result->multipliers.empty() ? 0.0 : std::abs(result->multipliers[0]);
+  result->num_unstable = static_cast<int>(std::count_if(
+      result->multipliers.begin(), result->multipliers.end(),
+      [&](const Complex& mu) { return std::abs(mu) > 1.0 + options.unstable_tolerance; }));
+  result->computed = true;
+  if (static_cast<int>(accepted.size()) != pencil.state_dimension) {
+    result->message = "selected " + std::to_string(accepted.size()) + " exponents for a state of " +
+                      std::to_string(pencil.state_dimension);
+  }
+}
+
+// Candidates (finite eigenvalues with their centroids) from eigenpairs ν, z of the operator.
+void AddCandidates(const Eigen::VectorXcd& nu, const Eigen::MatrixXcd& vectors, double sigma,
+                   const HillPencil& pencil, std::vector<Candidate>* candidates) {
+  const double largest = nu.cwiseAbs().maxCoeff();
+  const int n = static_cast<int>(pencil.d0.rows());
+  for (Eigen::Index i = 0; i < nu.size(); ++i) {
+    if (std::abs(nu(i)) <= kInfiniteRatio * largest) continue;
+    double weight = 0.0;
+    const double centroid = Centroid(vectors.col(i).head(n), pencil, &weight);
+    if (weight <= 0.0) continue;  // no displacement: an algebraic mode
+    candidates->push_back({sigma + 1.0 / nu(i), centroid});
+  }
+}
+
+}  // namespace
+
+FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  FloquetResult result;
+  result.method = "hill";
+  double sigma = kShiftFraction * pencil.omega;
+  std::unique_ptr<ShiftInvertOperator> op;
+  for (int attempt = 0; attempt < 3; ++attempt, sigma *= 1.7) {
+    op = std::make_unique<ShiftInvertOperator>(pencil, sigma);
+    if (op->ok()) break;
+  }
+  if (!op->ok()) {
+    result.message = "Hill matrix singular at every shift tried";
+    return result;
+  }
+  const int size = static_cast<int>(op->rows());
+  std::vector<Candidate> candidates;
+  if (size <= options.dense_limit) {
+    Eigen::MatrixXd matrix(size, size);
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(size);
+    for (int j = 0; j < size; ++j) {
+      unit(j) = 1.0;
+      op->perform_op(unit.data(), matrix.col(j).data());
+      unit(j) = 0.0;
+    }
+    Eigen::EigenSolver<Eigen::MatrixXd> solver(matrix, true);
+    if (solver.info() != Eigen::Success) {
+      result.message = "dense eigensolver failed";
+      return result;
+    }
+    AddCandidates(solver.eigenvalues(), solver.eigenvectors(), sigma, pencil, &candidates);
+  } else {
+    // Enough exponents nearest σ to hold each family's central copy and its neighbours.
+    const int copies = pencil.set.odd_only() ? 2 : 3;
+    const int nev = std::min(size - 3, copies * pencil.state_dimension + 6);
+    const int ncv = std::min(size, 2 * nev + 1);
+    Spectra::GenEigsRealShiftSolver<ShiftInvertOperator> eigs(*op, nev, ncv, sigma);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    if (eigs.info() != Spectra::CompInfo::Successful) {
+      result.message = "Arnoldi did not converge";
+      return result;
+    }
+    // Spectra returns the transformed-back λ = σ + 1/ν; AddCandidates wants ν.
+    const Eigen::VectorXcd lambda = eigs.eigenvalues();
+    const Eigen::VectorXcd nu = (lambda.array() - sigma).inverse();
+    AddCandidates(nu, eigs.eigenvectors(), sigma, pencil, &candidates);
+  }
+  SelectPhysical(std::move(candidates), pencil, options, &result);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace nfrc

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <vector>
+
+#include "analysis/harmonic_system.h"
+#include "analysis/stability.h"
+#include "core/harmonic_set.h"
+
+namespace nfrc {
+
+// Hill's quadratic eigenproblem (Δ0 + sΔ1 + s²Δ2) q = 0 of a periodic solution: the
+// perturbation e^{st} p(θ), p in the solution's harmonic basis. It is posed on the full,
+// uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the laws' own
+// unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
+// through Z_red(s + ikω). Rows without mass (own unknowns, massless DOFs) are algebraic.
+struct HillPencil {
+  Eigen::SparseMatrix<double> d0, d1, d2;
+  HarmonicSet set{1, false};
+  double omega = 1.0;
+  // Unknowns whose columns of Δ2 are non-zero (coefficients of DOFs with mass), ascending.
+  std::vector<int> dynamic;
+  // First index of each displacement signal (NumCoefficients entries) whose harmonic content
+  // tells the physical exponents from their copies s + ikω (the DOFs with mass).
+  std::vector<int> signal_offsets;
+  // Dimension of the physical state (2 per DOF with mass): how many exponents to expect.
+  int state_dimension = 0;
+};
+
+// The pencil of a HarmonicSystem's solution y at ω (the system is evaluated there first).
+// Δ0 is the Jacobian of the uncondensed harmonic equations; Δ1 = C⊗I + 2ωM⊗D plus the laws'
+// velocity Jacobians; Δ2 = M⊗I (Nonlinearity::LinearizeForStability).
+HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega);
+
+struct HillOptions {
+  // |μ| > 1 + unstable_tolerance counts as unstable (StabilityOptions).
+  double unstable_tolerance = 1e-6;
+  // Linearised pencils up to this size are solved whole (dense); larger ones by shift-invert
+  // Arnoldi (Spectra) for the exponents nearest the imaginary axis.
+  int dense_limit = 240;
+};
+
+// The Floquet exponents and multipliers of a pencil. The pencil is linearised on
+// z = (q, s q_dynamic). Each physical exponent appears in Hill's spectrum as a family
+// s + ikω (k in steps of 2 for odd-only sets, whose copies are 2ω apart); the representative
+// is the member whose eigenvector's harmonic centroid k̄ = Σk|c_k|²/Σ|c_k|² (complex
+// amplitudes c_k of the perturbation's DOF signals) is nearest 0. Near a multiplier −1 the
+// two copies ±iω/2 of one family sit at k̄ ≈ ±Δk/2: one of them is kept (they share μ).
+FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options);
+
+}  // namespace nfrc

@@ -1,0 +1,63 @@
+// Stability along traced branches: Duffing's middle branch is unstable exactly between its
+// folds, and each fold is the +1 crossing of a real multiplier.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "analysis/trace.h"
+#include "tools/case_file.h"
+
+namespace nfrc {
+namespace {
+
+// At a fold localised to 1e-6 relative in ω the exponent is O(√1e-6) from 0 (ω is quadratic
+// in the arclength there): |ln μ| = |s|T ≤ 1e-2 leaves margin above that and is far below
+// the O(1) of a wrong crossing.
+constexpr double kFoldMultiplierTolerance = 1e-2;
+
+Case LoadSourceCase(const std::string& name) {
+  return LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
+}
+
+TEST_CASE("stability: Duffing's middle branch is unstable exactly between the folds") {
+  const TraceResult trace = TraceCase(LoadSourceCase("duffing.json"));
+  REQUIRE(trace.branch.summary.success());
+  REQUIRE(trace.folds.size() == 2);
+  const int first = trace.folds[0].fold.after_point, second = trace.folds[1].fold.after_point;
+  for (const TracePoint& point : trace.points) {
+    CAPTURE(point.index);
+    CAPTURE(point.point.lambda);
+    REQUIRE(point.floquet.computed);
+    const bool middle = point.index > first && point.index <= second;
+    CHECK(point.floquet.stable() == !middle);
+    if (middle) {
+      // One real multiplier beyond +1 (a saddle), the other inside the unit circle.
+      REQUIRE(point.floquet.num_unstable == 1);
+      CHECK(point.floquet.multipliers[0].real() > 1.0);
+      CHECK(std::abs(point.floquet.multipliers[0].imag()) < 1e-8);
+    }
+  }
+  // The two stability changes are the engine's folds, nothing else.
+  REQUIRE(trace.bifurcations.size() == 2);
+  for (size_t i = 0; i < 2; ++i) {
+    const Bifurcation& b = trace.bifurcations[i];
+    CHECK(b.type == BifurcationType::kFold);
+    CHECK(b.omega == trace.folds[i].fold.lambda);
+    REQUIRE(b.crossing_multipliers.size() == 1);
+    CHECK(std::abs(std::log(std::abs(b.crossing_multipliers[0]))) < kFoldMultiplierTolerance);
+    CHECK(b.crossing_multipliers[0].real() > 0.0);
+  }
+}
+
+TEST_CASE("stability: off means no Floquet results and no bifurcations") {
+  Case c = LoadSourceCase("duffing.json");
+  c.stability.enabled = false;
+  const TraceResult trace = TraceCase(c);
+  REQUIRE_FALSE(trace.points.empty());
+  for (const TracePoint& point : trace.points) CHECK_FALSE(point.floquet.computed);
+  CHECK(trace.bifurcations.empty());
+}
+
+}  // namespace
+}  // namespace nfrc
