@@ -100,8 +100,7 @@ double ResponseMeasure(const PointMeasures& measures, const std::string& name, i
 // A case's stability options under their case-file names, and one of them set (InputError
 // naming "stability.<key>" for an unknown key or a value of the wrong type).
 py::dict GetStability(const StabilityOptions& options);
-void SetStabilityOption(StabilityOptions& options, const std::string& key,
-                        const py::handle& value);
+void SetStabilityOption(StabilityOptions& options, const std::string& key, const py::handle& value);
 
 // Per point: True/False, or None where stability was not analysed.
 py::list StableFlags(const std::vector<TracePoint>& points);

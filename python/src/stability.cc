@@ -13,8 +13,8 @@ const char kStabilityOptions[] =
     "enabled, unstable_tolerance, bifurcation_tolerance, max_bifurcation_iterations";
 
 py::dict ResponseMeasures(const PointMeasures& m) {
-  return py::dict("energy"_a = m.energy, "max_abs"_a = m.max_abs, "min"_a = m.min,
-                  "max"_a = m.max, "h1"_a = m.h1);
+  return py::dict("energy"_a = m.energy, "max_abs"_a = m.max_abs, "min"_a = m.min, "max"_a = m.max,
+                  "h1"_a = m.h1);
 }
 
 // None, not False, when not analysed: "unknown" must not read as "unstable".
@@ -76,11 +76,13 @@ void BindStability(py::module_& m) {
       });
 
   py::class_<BifurcationView>(m, "Bifurcation", "A change of stability along a branch.")
-      .def_property_readonly("type", [](const BifurcationView& b) { return ToString(b.record.type); })
+      .def_property_readonly("type",
+                             [](const BifurcationView& b) { return ToString(b.record.type); })
       .def_property_readonly("omega", [](const BifurcationView& b) { return b.record.omega; })
       .def_property_readonly("omega_accuracy",
                              [](const BifurcationView& b) { return b.record.omega_accuracy; })
-      .def_property_readonly("converged", [](const BifurcationView& b) { return b.record.converged; })
+      .def_property_readonly("converged",
+                             [](const BifurcationView& b) { return b.record.converged; })
       .def_property_readonly("iterations",
                              [](const BifurcationView& b) { return b.record.iterations; })
       .def_property_readonly("after_point",
@@ -88,8 +90,8 @@ void BindStability(py::module_& m) {
       .def_property_readonly("crossing_multipliers",
                              [](const BifurcationView& b) { return b.record.crossing_multipliers; })
       .def_property_readonly("y", [](const BifurcationView& b) { return b.record.y; })
-      .def_property_readonly("measures",
-                             [](const BifurcationView& b) { return ResponseMeasures(b.record.measures); })
+      .def_property_readonly(
+          "measures", [](const BifurcationView& b) { return ResponseMeasures(b.record.measures); })
       .def(
           "measure",
           [](const BifurcationView& b, const std::string& name, const py::object& dof) {

@@ -81,7 +81,8 @@ void BindTrace(py::module_& m) {
                                for (const auto& f : b.result.folds) folds.push_back({f, b.naming});
                                return folds;
                              })
-      .def_property_readonly("stable", [](const BranchView& b) { return StableFlags(b.result.points); })
+      .def_property_readonly("stable",
+                             [](const BranchView& b) { return StableFlags(b.result.points); })
       .def_property_readonly("floquet",
                              [](const BranchView& b) {
                                std::vector<FloquetResult> floquet;

@@ -86,8 +86,9 @@ TEST_CASE("the stability object is optional, read strictly and validated") {
         "stability.enabled: expected true or false, got \"no\"");
   CHECK(ErrorWith("/stability/unstable_tolerance", -1.0).find("stability.unstable_tolerance:") ==
         0);
-  CHECK(ErrorWith("/stability/bifurcation_tolerance", 0.0)
-            .find("stability.bifurcation_tolerance:") == 0);
+  CHECK(
+      ErrorWith("/stability/bifurcation_tolerance", 0.0).find("stability.bifurcation_tolerance:") ==
+      0);
   CHECK(ErrorWith("/stability/max_bifurcation_iterations", 0)
             .find("stability.max_bifurcation_iterations:") == 0);
   CHECK(ErrorWith("/stability/tolerance", 1e-3) == "stability.tolerance: unknown key");
