@@ -49,7 +49,55 @@ nlohmann::json LemkeToJson(const LemkeRecord& r) {
           {"complementarity_gap", r.complementarity_gap}};
 }
 
+nlohmann::json StabilityOptionsToJson(const StabilityOptions& o) {
+  return {{"enabled", o.enabled},
+          {"unstable_tolerance", o.unstable_tolerance},
+          {"bifurcation_tolerance", o.bifurcation_tolerance},
+          {"max_bifurcation_iterations", o.max_bifurcation_iterations}};
+}
+
+// The CSV's stability columns: empty when not computed, so that a reader tells "not
+// analysed" from "unstable".
+void WriteStabilityColumns(CsvStream& csv, const FloquetResult& floquet) {
+  if (!floquet.computed) {
+    csv << ",,,";
+    return;
+  }
+  csv << ',' << (floquet.stable() ? 1 : 0) << ',' << floquet.max_modulus << ','
+      << floquet.num_unstable;
+}
+
 }  // namespace
+
+nlohmann::json ComplexListToJson(const std::vector<std::complex<double>>& values) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const std::complex<double>& value : values) list.push_back({value.real(), value.imag()});
+  return list;
+}
+
+nlohmann::json FloquetToJson(const FloquetResult& floquet) {
+  if (!floquet.computed) return nullptr;
+  return {{"max_modulus", floquet.max_modulus},
+          {"unstable", floquet.num_unstable},
+          {"method", floquet.method},
+          {"multipliers", ComplexListToJson(floquet.multipliers)}};
+}
+
+nlohmann::json BifurcationToJson(const Bifurcation& bifurcation) {
+  const PointMeasures& m = bifurcation.measures;
+  return {{"type", ToString(bifurcation.type)},
+          {"omega", bifurcation.omega},
+          {"omega_accuracy", bifurcation.omega_accuracy},
+          {"converged", bifurcation.converged},
+          {"iterations", bifurcation.iterations},
+          {"after_point", bifurcation.after_point},
+          {"crossing_multipliers", ComplexListToJson(bifurcation.crossing_multipliers)},
+          {"energy", m.energy},
+          {"max_abs", m.max_abs},
+          {"min", m.min},
+          {"max", m.max},
+          {"h1", m.h1}};
+}
 
 nlohmann::json MeasuresToJson(const SolutionMeasures& measures) {
   const PointMeasures& m = measures.response;
@@ -97,7 +145,8 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
   csv_ << "index,omega,step,newton_iterations,residual_norm,tangent_omega,energy";
   for (const std::string& name : case_.output_names) csv_ << ",max_abs_" << name;
   for (const std::string& name : case_.output_names) csv_ << ",h1_" << name;
-  csv_ << "\n";
+  // Appended last so that readers of the older columns by position keep working.
+  csv_ << ",stable,max_multiplier,unstable\n";
   csv_.Flush();
 
   const HarmonicSet& set = case_.harmonics;
@@ -113,8 +162,10 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
                {"output_dofs", case_.output_names},
                {"unknowns", 0},
                {"options", OptionsToJson(case_)},
+               {"stability", StabilityOptionsToJson(case_.stability)},
                {"points", nlohmann::json::array()},
                {"folds", nlohmann::json::array()},
+               {"bifurcations", nlohmann::json::array()},
                {"signals", nlohmann::json::array()},
                {"summary", {{"termination", "running"}, {"message", "run in progress"}}}};
   WriteJson();
@@ -134,6 +185,9 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
                           {"residual_norm", point.residual_norm},
                           {"tangent_omega", point.tangent_lambda}};
   entry.update(MeasuresToJson(record.measures));
+  // null, not false, when not analysed: "unknown" must not read as "unstable".
+  entry["stable"] = record.floquet.computed ? nlohmann::json(record.floquet.stable()) : nullptr;
+  entry["floquet"] = FloquetToJson(record.floquet);
   if (record.lemke) {
     nlohmann::json info = LemkeToJson(*record.lemke);
     info["coexisting_contact"] = record.coexisting_contact;
@@ -150,6 +204,7 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
        << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
+  WriteStabilityColumns(csv_, record.floquet);
   csv_ << '\n';
   csv_.Flush();
   // Large documents are rewritten less often, so that writing stays a small share of the run.
@@ -194,6 +249,11 @@ void BranchWriter::OnFold(const TraceFold& record) {
                                 {"tangent_omega", fold.tangent_lambda},
                                 {"iterations", fold.iterations},
                                 {"converged", fold.converged}});
+  WriteJson();
+}
+
+void BranchWriter::OnBifurcation(const Bifurcation& bifurcation) {
+  document_["bifurcations"].push_back(BifurcationToJson(bifurcation));
   WriteJson();
 }
 

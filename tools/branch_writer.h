@@ -1,9 +1,11 @@
 #pragma once
 
 #include <chrono>
+#include <complex>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "analysis/case.h"
 #include "analysis/trace.h"
@@ -13,7 +15,7 @@ namespace nfrc {
 
 // Streams a traced branch to DIR/branch.csv (a line per point, flushed) and DIR/branch.json
 // (rewritten atomically at most every kJsonInterval, or ten times the last write's duration
-// if longer, at every fold and at the end), and each solution's time signals to
+// if longer, at every fold and bifurcation and at the end), and each solution's time signals to
 // DIR/signals_<n>.csv (and samples_<n>.csv), so a run that stops part-way leaves every point
 // computed so far on disk. It only writes what the trace computed: it never solves.
 class BranchWriter : public TraceObserver {
@@ -27,6 +29,7 @@ class BranchWriter : public TraceObserver {
   void OnStart(int num_unknowns) override;
   bool OnPoint(const TracePoint& point) override;
   void OnFold(const TraceFold& fold) override;
+  void OnBifurcation(const Bifurcation& bifurcation) override;
   void OnSignals(const SolutionSignals& signals) override;
 
   // Writes the final branch.json with the summary.
@@ -49,6 +52,17 @@ class BranchWriter : public TraceObserver {
 // JSON of measures as point records hold them: energy, max_abs, min, max, h1, amplitudes,
 // laws (diagnostics) and, for contact cases, min_gap and min_force.
 nlohmann::json MeasuresToJson(const SolutionMeasures& measures);
+
+// [[re, im], ...] of complex values (multipliers).
+nlohmann::json ComplexListToJson(const std::vector<std::complex<double>>& values);
+
+// A point's "floquet" record: max_modulus, unstable (count), method, multipliers; null when
+// not computed.
+nlohmann::json FloquetToJson(const FloquetResult& floquet);
+
+// A "bifurcations" entry: type, omega, omega_accuracy, converged, iterations, after_point,
+// crossing_multipliers and the response measures as folds record them.
+nlohmann::json BifurcationToJson(const Bifurcation& bifurcation);
 
 // nlohmann::json summary of a continuation run.
 nlohmann::json SummaryToJson(const ContinuationSummary& summary);

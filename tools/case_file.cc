@@ -88,6 +88,19 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
   return options;
 }
 
+// The "stability" object; the ranges are StabilityOptions::Validate's (run by Case::Validate).
+StabilityOptions ReadStability(const nlohmann::json& spec) {
+  InputFields fields(spec, "stability");
+  StabilityOptions o;
+  o.enabled = fields.OptionalBool("enabled", o.enabled);
+  o.unstable_tolerance = fields.OptionalNumber("unstable_tolerance", o.unstable_tolerance);
+  o.bifurcation_tolerance = fields.OptionalNumber("bifurcation_tolerance", o.bifurcation_tolerance);
+  o.max_bifurcation_iterations =
+      fields.OptionalInt("max_bifurcation_iterations", o.max_bifurcation_iterations);
+  fields.Finish();
+  return o;
+}
+
 }  // namespace
 
 Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
@@ -133,6 +146,7 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
   if (fields.Has("validation")) {
     result.validation = ReadValidationSettings(fields.RequiredObject("validation"));
   }
+  if (fields.Has("stability")) result.stability = ReadStability(fields.RequiredObject("stability"));
   fields.Finish();
   result.Validate();
   return result;

@@ -5,7 +5,10 @@ usage: plot_frc.py DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] 
        [--labels A,B,...] [--title TEXT]
 
 One directory: writes DIR/frc.png and DIR/frc.svg. Several: overlays them and writes to
---output (default: the first DIR's frc_overlay). Folds are marked with open circles.
+--output (default: the first DIR's frc_overlay). Where stability was analysed, unstable
+parts of a branch are dashed (stable or not analysed: solid); folds are marked with open
+circles and the other bifurcations (branch points, period doublings, Neimark–Sacker) with
+their own markers, listed in the legend only when present.
 """
 import argparse
 import os
@@ -16,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from nfrc_output import load_branch  # noqa: E402
+from nfrc_output import any_unstable, draw_branch, load_branch, mark_bifurcations  # noqa: E402
 
 
 def load(directory):
@@ -36,6 +39,8 @@ def main():
 
     labels = args.labels.split(",") if args.labels else None
     figure, axes = plt.subplots(figsize=(7, 4.5))
+    labelled = set()  # bifurcation types already in the legend
+    unstable_shown = False
     for i, directory in enumerate(args.dirs):
         document = load(directory)
         points = document.get("points", [])
@@ -45,6 +50,13 @@ def main():
         if args.measure == "energy":
             names = names[:1]
         omega = [p["omega"] for p in points]
+        stable = [p.get("stable") for p in points]
+        unstable_shown = unstable_shown or any_unstable(points)
+        bifurcations = document.get("bifurcations") or []
+        # The stability analysis reports folds among its bifurcations; the engine's folds
+        # are drawn only when it did not, so that each fold is marked once.
+        folds = [] if any(b.get("type") == "fold" for b in bifurcations) else \
+            document.get("folds", [])
 
         def value(entry, d):
             return entry[args.measure] if args.measure == "energy" else entry[args.measure][d]
@@ -55,12 +67,15 @@ def main():
                 os.path.normpath(directory))
             if len(names) > 1 and args.measure != "energy":
                 label += f" (DOF {name})"
-            (line,) = axes.plot(omega, values, "-", lw=1.4, label=label)
-            folds = document.get("folds", [])
+            colour = draw_branch(axes, omega, values, stable, label=label, lw=1.4)
             if folds:
                 axes.plot([f["omega"] for f in folds], [value(f, d) for f in folds],
-                          "o", mfc="none", color=line.get_color(), ms=7,
-                          label="folds" if i == 0 and d == 0 else None)
+                          "o", mfc="none", color=colour, ms=7,
+                          label=None if "fold" in labelled else "folds")
+                labelled.add("fold")
+            mark_bifurcations(axes, bifurcations, lambda b: value(b, d), colour, labelled)
+    if unstable_shown:
+        axes.plot([], [], "--", color="grey", lw=1.4, label="unstable")
     axes.set_xlabel(r"excitation frequency $\omega$")
     axes.set_ylabel({"max_abs": r"max$_t\,|x(t)|$", "h1": "first-harmonic amplitude",
                      "min": r"min$_t\,x(t)$", "max": r"max$_t\,x(t)$",

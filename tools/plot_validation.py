@@ -9,7 +9,8 @@ Writes
                           DOF for x and for v, and one per friction/contact force; the title
                           gives omega, the matched branch and the relative h1/energy differences.
   DIR/validation.png/.svg the frequency response curve of DIR/hbm/branch.json with the HBM
-                          solutions at the validation frequencies (open circles), the transients
+                          solutions at the validation frequencies (open circles; the branch
+                          dashed where unstable, bifurcations marked by type), the transients
                           (periodic: red crosses, not periodic: orange triangles) and the chirp
                           sweeps (DIR/chirp_up.csv blue, DIR/chirp_down.csv green) if present.
 The measure is the mean energy over a period (log axis) when the branch energies span more than
@@ -27,7 +28,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from nfrc_output import load_branch  # noqa: E402
+from nfrc_output import any_unstable, draw_branch, load_branch, mark_bifurcations  # noqa: E402
 
 PROGRAM = "plot_validation"
 
@@ -225,16 +226,23 @@ def plot_validation(directory, document, branch, written):
     first = output_names[0] if output_names else "0"
 
     figure, axes = plt.subplots(figsize=(7, 4.5))
-    line = [(number(p.get("omega")), measure_of(p, measure)) for p in branch_points]
-    line = [(w, y) for w, y in line if w is not None and y is not None]
-    axes.plot([w for w, _ in line], [y for _, y in line], "-", color="black", lw=1.4,
-              label="HBM branch")
-    folds = [(number(f.get("omega")), measure_of(f, measure))
-             for f in listed(branch.get("folds")) if isinstance(f, dict)]
+    line = [(number(p.get("omega")), measure_of(p, measure), p.get("stable"))
+            for p in branch_points]
+    line = [(w, y, s) for w, y, s in line if w is not None and y is not None]
+    draw_branch(axes, [w for w, _, _ in line], [y for _, y, _ in line], [s for _, _, s in line],
+                label="HBM branch", color="black", lw=1.4)
+    if any_unstable(branch_points):
+        axes.plot([], [], "--", color="black", lw=1.4, label="HBM branch, unstable")
+    bifurcations = [b for b in listed(branch.get("bifurcations")) if isinstance(b, dict)]
+    # Folds once: the stability analysis's when it reports them, else the engine's.
+    folds = [] if any(b.get("type") == "fold" for b in bifurcations) else [
+        (number(f.get("omega")), measure_of(f, measure))
+        for f in listed(branch.get("folds")) if isinstance(f, dict)]
     folds = [(w, y) for w, y in folds if w is not None and y is not None]
     if folds:
         axes.plot([w for w, _ in folds], [y for _, y in folds], "D", mfc="none", color="grey",
                   ms=5, label="folds")
+    mark_bifurcations(axes, bifurcations, lambda b: measure_of(b, measure), "grey", set())
 
     # Chirp sweeps first, so that the markers are drawn on top of them.
     chirp = document.get("chirp") if isinstance(document.get("chirp"), dict) else {}

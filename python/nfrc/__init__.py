@@ -14,18 +14,20 @@ import json
 import os
 
 from . import _nfrc
-from ._nfrc import (Branch, Case, CoulombFriction, CubicSpring, DlftContact, Fold, Forcing,
-                    HarmonicSet, InputError, LcpContact, PenaltyContact, PolynomialSpring,
-                    Solution, Summary, __version__)
+from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, DlftContact,
+                    Floquet, Fold, Forcing, HarmonicSet, InputError, LcpContact,
+                    PenaltyContact, PolynomialSpring, Solution, Summary, __version__)
 
-__all__ = ["Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact", "Fold", "Forcing",
-           "HarmonicSet", "InputError", "Interrupted", "LcpContact", "PenaltyContact",
+__all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
+           "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
+           "LcpContact", "PenaltyContact",
            "PolynomialSpring", "Solution", "Summary", "load_case", "solve_at", "trace",
            "__version__"]
 
 LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, PenaltyContact, DlftContact, LcpContact)
 
-for _cls in LAWS + (Branch, Case, Fold, Forcing, HarmonicSet, InputError, Solution, Summary):
+for _cls in LAWS + (Bifurcation, Branch, Case, Floquet, Fold, Forcing, HarmonicSet, InputError,
+                    Solution, Summary):
     _cls.__module__ = __name__
 
 
@@ -107,36 +109,64 @@ class _CaseList(collections.abc.MutableSequence):
         return repr(self._items())
 
 
-class _Continuation:
-    """A case's continuation options under their case-file names (omega_start, omega_end,
-    step, min_step, max_step, max_points, ...). Setting one validates the case; update()
-    sets several at once."""
+class _Options:
+    """One options object of a case (a case-file object such as "continuation") under its
+    case-file names. Setting one validates the case; update() sets several at once."""
 
     __slots__ = ("_case",)
+    _what = ""  # the case-file object: the case's _<what>() and _set_<what>(dict)
 
     def __init__(self, case):
         object.__setattr__(self, "_case", case)
 
+    def _get(self):
+        return getattr(self._case, "_" + self._what)()
+
+    def _set(self, options):
+        getattr(self._case, "_set_" + self._what)(options)
+
     def __getattr__(self, name):
-        options = self._case._continuation()
+        options = self._get()
         if name not in options:
-            raise AttributeError(f"no continuation option {name!r} (known: {', '.join(options)})")
+            raise AttributeError(f"no {self._what} option {name!r} (known: {', '.join(options)})")
         return options[name]
 
     def __setattr__(self, name, value):
-        self._case._set_continuation({name: value})
+        self._set({name: value})
 
     def update(self, **options):
-        self._case._set_continuation(options)
+        self._set(options)
 
     def to_dict(self):
-        return self._case._continuation()
+        return self._get()
+
+    def __getitem__(self, name):
+        return self._get()[name]
+
+    def __eq__(self, other):
+        return self._get() == (other.to_dict() if isinstance(other, _Options) else other)
 
     def __dir__(self):
-        return list(self._case._continuation()) + ["update", "to_dict"]
+        return list(self._get()) + ["update", "to_dict"]
 
     def __repr__(self):
-        return f"Continuation({self._case._continuation()})"
+        return f"{self._what.capitalize()}({self._get()})"
+
+
+class _Continuation(_Options):
+    """A case's continuation options (omega_start, omega_end, step, min_step, max_step,
+    max_points, ...)."""
+
+    __slots__ = ()
+    _what = "continuation"
+
+
+class _Stability(_Options):
+    """A case's stability options (enabled, unstable_tolerance, bifurcation_tolerance,
+    max_bifurcation_iterations)."""
+
+    __slots__ = ()
+    _what = "stability"
 
 
 def _plain(value):
@@ -188,6 +218,10 @@ Case.forcing = property(lambda self: _CaseList(self, "_forcing"),
 Case.continuation = property(_Continuation,
                              lambda self, options: self._set_continuation(dict(options)),
                              doc="The continuation options (case-file names).")
+Case.stability = property(_Stability,
+                          lambda self, options: self._set_stability(dict(options)),
+                          doc="The stability options (case-file names), e.g. "
+                              "case.stability.enabled = False.")
 
 
 def load_case(path):

@@ -28,6 +28,7 @@ void BindResults(py::module_& m);  // Summary, Fold, Solution
 void BindTrace(py::module_& m);
 void BindSolveAt(py::module_& m);
 void BindValidate(py::module_& m);
+void BindStability(py::module_& m);  // Floquet, Bifurcation
 
 // A Case as Python holds it. Every setter validates the whole case and restores the old value
 // on error, unless changes are batched by `with case.edit():` (then validated once at the end,
@@ -91,6 +92,19 @@ struct OutputNaming {
 // min_force (contact cases) or law<i>_<diagnostic>. Throws InputError for an unknown name.
 double MeasureOf(const SolutionMeasures& measures, const std::string& name, int output);
 
+// The same for records that keep only the response measures (folds, bifurcations: `where`
+// names them in the error for a law's or a contact's measure).
+double ResponseMeasure(const PointMeasures& measures, const std::string& name, int output,
+                       const std::string& where);
+
+// A case's stability options under their case-file names, and one of them set (InputError
+// naming "stability.<key>" for an unknown key or a value of the wrong type).
+py::dict GetStability(const StabilityOptions& options);
+void SetStabilityOption(StabilityOptions& options, const std::string& key, const py::handle& value);
+
+// Per point: True/False, or None where stability was not analysed.
+py::list StableFlags(const std::vector<TracePoint>& points);
+
 // Stops an analysis running without the GIL when Python has a pending signal: after every
 // point it takes the GIL (main thread only: other threads never run signal handlers) and
 // calls PyErr_CheckSignals. A KeyboardInterrupt stops the analysis, which keeps its points;
@@ -123,6 +137,12 @@ struct SolutionView {
 // A fold keeps the branch's output naming for measure(name, dof).
 struct FoldView {
   TraceFold record;
+  std::shared_ptr<const OutputNaming> naming;
+};
+
+// A bifurcation keeps the branch's output naming for measure(name, dof).
+struct BifurcationView {
+  Bifurcation record;
   std::shared_ptr<const OutputNaming> naming;
 };
 

@@ -205,6 +205,15 @@ void BindCase(py::module_& m) {
                }
              });
            })
+      .def("_stability", [](const PyCase& c) { return GetStability(c.value.stability); })
+      .def("_set_stability",
+           [](PyCase& c, const py::dict& options) {
+             Modify(c, [&](Case& v) {
+               for (const auto& [key, value] : options) {
+                 SetStabilityOption(v.stability, key.cast<std::string>(), value);
+               }
+             });
+           })
       .def_property(
           "output_dofs", [](const PyCase& c) { return c.value.output_dofs; },
           [](PyCase& c, const py::list& dofs) {

@@ -14,6 +14,7 @@ PYBIND11_MODULE(_nfrc, m) {
   nfrc::python::BindLaws(m);
   nfrc::python::BindCase(m);
   nfrc::python::BindResults(m);
+  nfrc::python::BindStability(m);
   nfrc::python::BindTrace(m);
   nfrc::python::BindSolveAt(m);
   nfrc::python::BindValidate(m);

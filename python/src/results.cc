@@ -17,21 +17,20 @@ py::dict Table(const SignalTable& table) {
   return d;
 }
 
-// Fold measures are response measures only.
-double FoldMeasure(const TraceFold& fold, const std::string& name, int output) {
-  if (name == "min_gap" || name == "min_force" || name.rfind("law", 0) == 0) {
-    throw InputError("measure: \"" + name +
-                     "\" is not recorded at folds (max_abs, min, max, h1, "
-                     "energy are)");
-  }
-  return MeasureOf(SolutionMeasures{fold.measures, {}, {}, {}}, name, output);
-}
-
 bool IsDigits(const std::string& text) {
   return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
 }
 
 }  // namespace
+
+double ResponseMeasure(const PointMeasures& measures, const std::string& name, int output,
+                       const std::string& where) {
+  if (name == "min_gap" || name == "min_force" || name.rfind("law", 0) == 0) {
+    throw InputError("measure: \"" + name + "\" is not recorded at " + where +
+                     " (max_abs, min, max, h1, energy are)");
+  }
+  return MeasureOf(SolutionMeasures{measures, {}, {}, {}}, name, output);
+}
 
 OutputNaming::OutputNaming(const Case& c) : names(c.output_names) {
   for (int dof : c.output_dofs) {
@@ -113,7 +112,7 @@ void BindResults(py::module_& m) {
       .def(
           "measure",
           [](const FoldView& f, const std::string& name, const py::object& dof) {
-            return FoldMeasure(f.record, name, f.naming->Find(dof));
+            return ResponseMeasure(f.record.measures, name, f.naming->Find(dof), "folds");
           },
           "name"_a, "dof"_a = 0)
       .def("__repr__", [](const FoldView& f) {

@@ -81,6 +81,22 @@ void BindTrace(py::module_& m) {
                                for (const auto& f : b.result.folds) folds.push_back({f, b.naming});
                                return folds;
                              })
+      .def_property_readonly("stable",
+                             [](const BranchView& b) { return StableFlags(b.result.points); })
+      .def_property_readonly("floquet",
+                             [](const BranchView& b) {
+                               std::vector<FloquetResult> floquet;
+                               for (const auto& p : b.result.points) floquet.push_back(p.floquet);
+                               return floquet;
+                             })
+      .def_property_readonly("bifurcations",
+                             [](const BranchView& b) {
+                               std::vector<BifurcationView> found;
+                               for (const auto& f : b.result.bifurcations) {
+                                 found.push_back({f, b.naming});
+                               }
+                               return found;
+                             })
       .def_property_readonly("solutions",
                              [](const BranchView& b) {
                                std::vector<SolutionView> solutions;

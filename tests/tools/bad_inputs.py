@@ -213,6 +213,22 @@ case_error("validation_omega_negative", DUFFING, setitem(["validation"], {"omega
            "validation.omega")
 case_error("validation_unknown_key", DUFFING, setitem(["validation"], {"omegas": [1]}),
            "validation.omegas")
+case_error("stability_enabled_string", DUFFING, setitem(["stability"], {"enabled": "yes"}),
+           "stability.enabled", "expected true or false")
+case_error("stability_unstable_tolerance_negative", DUFFING,
+           setitem(["stability"], {"unstable_tolerance": -1e-6}), "stability.unstable_tolerance")
+case_error("stability_bifurcation_tolerance_one", DUFFING,
+           setitem(["stability"], {"bifurcation_tolerance": 1.0}),
+           "stability.bifurcation_tolerance")
+case_error("stability_iterations_fraction", DUFFING,
+           setitem(["stability"], {"max_bifurcation_iterations": 2.5}),
+           "stability.max_bifurcation_iterations", "expected an integer")
+case_error("stability_iterations_zero", DUFFING,
+           setitem(["stability"], {"max_bifurcation_iterations": 0}),
+           "stability.max_bifurcation_iterations")
+case_error("stability_unknown_key", DUFFING, setitem(["stability"], {"enable": True}),
+           "stability.enable: unknown key")
+case_error("stability_not_object", DUFFING, setitem(["stability"], True), "stability")
 
 # A numerical failure caused by the input is a status with its cause (exit 3, points kept).
 overflow = write("coefficient_1e308.json",

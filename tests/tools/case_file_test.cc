@@ -69,6 +69,32 @@ TEST_CASE("bad case files give one message naming the field") {
   CHECK(ErrorWith("/nonlinearities/0/type", "cubic").find("nonlinearities[0].type: unknown") == 0);
 }
 
+TEST_CASE("the stability object is optional, read strictly and validated") {
+  CHECK(ParseCase(Duffing(), ".").stability.enabled);  // on by default
+  nlohmann::json source = Duffing();
+  source["stability"] = {{"enabled", false},
+                         {"unstable_tolerance", 1e-4},
+                         {"bifurcation_tolerance", 1e-8},
+                         {"max_bifurcation_iterations", 12}};
+  const StabilityOptions read = ParseCase(source, ".").stability;
+  CHECK_FALSE(read.enabled);
+  CHECK(read.unstable_tolerance == 1e-4);
+  CHECK(read.bifurcation_tolerance == 1e-8);
+  CHECK(read.max_bifurcation_iterations == 12);
+
+  CHECK(ErrorWith("/stability/enabled", "no") ==
+        "stability.enabled: expected true or false, got \"no\"");
+  CHECK(ErrorWith("/stability/unstable_tolerance", -1.0).find("stability.unstable_tolerance:") ==
+        0);
+  CHECK(
+      ErrorWith("/stability/bifurcation_tolerance", 0.0).find("stability.bifurcation_tolerance:") ==
+      0);
+  CHECK(ErrorWith("/stability/max_bifurcation_iterations", 0)
+            .find("stability.max_bifurcation_iterations:") == 0);
+  CHECK(ErrorWith("/stability/tolerance", 1e-3) == "stability.tolerance: unknown key");
+  CHECK(ErrorWith("/stability", 1).find("case.stability: expected an object") == 0);
+}
+
 TEST_CASE("unreadable files and invalid JSON name the file") {
   auto load_error = [](const std::string& path) {
     try {

@@ -33,6 +33,9 @@ from contact_study import (centred, contact_centre, fold_summary, omega_axis,  #
 from study_common import (REPO, execute, fmt, load, parse_arguments, save, table,  # noqa: E402
                           termination)
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tools/
+from nfrc_output import draw_branch as draw_stability  # noqa: E402
+
 STUDY = "lcp"
 OMEGA0 = 63953.9
 GAP = 2e-4
@@ -403,7 +406,11 @@ def draw_branch(axes, document, style, colour, label):
     a = [p["max_abs"][0] for p in document["points"]]
     if termination(document) != "reached_lambda_bound":
         label += f" ({termination(document)} at ω = {w[-1]:.0f})"
-    axes.plot(w, a, style, lw=1.0, color=colour, label=label)
+    if style == "-":  # solid where stable or not analysed, dashed where unstable
+        stable = [p.get("stable") for p in document["points"]]
+        draw_stability(axes, w, a, stable, label=label, lw=1.0, color=colour)
+    else:
+        axes.plot(w, a, style, lw=1.0, color=colour, label=label)
     summary = fold_summary(document)
     if summary:
         right = summary["right"]

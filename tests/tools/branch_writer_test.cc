@@ -1,0 +1,166 @@
+#include "tools/branch_writer.h"
+
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tools/case_file.h"
+
+namespace nfrc {
+namespace {
+
+// Stability results are built by hand here: the writer must record them exactly, whatever
+// the analysis that will fill them.
+
+std::string OutDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("nfrc_branch_writer_test_" + name + "_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+std::vector<std::string> ReadLines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::string> Split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  for (std::string cell; std::getline(stream, cell, ',');) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.push_back("");  // getline drops the last
+  return cells;
+}
+
+TracePoint Point(int index, double omega) {
+  TracePoint point;
+  point.index = index;
+  point.point.lambda = omega;
+  point.measures.response.energy = 0.5;
+  point.measures.response.max_abs = {1.0};
+  point.measures.response.min = {-1.0};
+  point.measures.response.max = {1.0};
+  point.measures.response.h1 = {0.9};
+  return point;
+}
+
+FloquetResult Floquet(std::vector<std::complex<double>> multipliers, int num_unstable) {
+  FloquetResult floquet;
+  floquet.computed = true;
+  floquet.method = "hill";
+  floquet.multipliers = std::move(multipliers);
+  floquet.max_modulus = std::abs(floquet.multipliers.front());
+  floquet.num_unstable = num_unstable;
+  return floquet;
+}
+
+Bifurcation Crossing() {
+  Bifurcation bifurcation;
+  bifurcation.type = BifurcationType::kNeimarkSacker;
+  bifurcation.omega = 1.25;
+  bifurcation.omega_accuracy = 1e-7;
+  bifurcation.converged = true;
+  bifurcation.iterations = 6;
+  bifurcation.after_point = 1;
+  bifurcation.measures.energy = 0.75;
+  bifurcation.measures.max_abs = {1.5};
+  bifurcation.measures.min = {-1.4};
+  bifurcation.measures.max = {1.5};
+  bifurcation.measures.h1 = {1.3};
+  bifurcation.crossing_multipliers = {{0.6, 0.8}, {0.6, -0.8}};
+  return bifurcation;
+}
+
+TEST_CASE("branch.json and branch.csv record stability, null when not computed") {
+  const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
+  const std::string dir = OutDir("stability");
+  BranchWriter writer(dir, the_case, nullptr);
+  writer.OnStart(2);
+  TracePoint unknown = Point(0, 1.0);  // stability off: floquet.computed is false
+  TracePoint stable = Point(1, 1.2);
+  stable.floquet = Floquet({{0.5, 0.0}, {0.25, 0.0}}, 0);
+  TracePoint unstable = Point(2, 1.3);
+  unstable.floquet = Floquet({{1.5, 0.1}, {1.5, -0.1}}, 2);
+  writer.OnPoint(unknown);
+  writer.OnPoint(stable);
+  writer.OnBifurcation(Crossing());
+  // The bifurcation is on disk at once, before the next point or the end of the run.
+  const nlohmann::json streamed = ReadJson(dir + "/branch.json");
+  REQUIRE(streamed["bifurcations"].size() == 1);
+  writer.OnPoint(unstable);
+  writer.Finish(ContinuationSummary{});
+
+  const nlohmann::json doc = ReadJson(dir + "/branch.json");
+  REQUIRE(doc["points"].size() == 3);
+  CHECK(doc["points"][0]["stable"].is_null());
+  CHECK(doc["points"][0]["floquet"].is_null());
+  CHECK(doc["points"][1]["stable"] == true);
+  CHECK(doc["points"][2]["stable"] == false);
+  const nlohmann::json& floquet = doc["points"][2]["floquet"];
+  CHECK(floquet["unstable"] == 2);
+  CHECK(floquet["method"] == "hill");
+  CHECK(floquet["max_modulus"].get<double>() == doctest::Approx(std::abs(std::complex(1.5, 0.1))));
+  CHECK(floquet["multipliers"] == nlohmann::json::parse("[[1.5, 0.1], [1.5, -0.1]]"));
+  CHECK(doc["folds"].empty());
+  CHECK(doc["stability"]["enabled"] == the_case.stability.enabled);
+
+  const nlohmann::json& b = doc["bifurcations"][0];
+  CHECK(b["type"] == "neimark_sacker");
+  CHECK(b["omega"] == 1.25);
+  CHECK(b["omega_accuracy"] == 1e-7);
+  CHECK(b["converged"] == true);
+  CHECK(b["iterations"] == 6);
+  CHECK(b["after_point"] == 1);
+  CHECK(b["crossing_multipliers"] == nlohmann::json::parse("[[0.6, 0.8], [0.6, -0.8]]"));
+  CHECK(b["energy"] == 0.75);
+  CHECK(b["max_abs"] == nlohmann::json::parse("[1.5]"));
+  CHECK(b["h1"] == nlohmann::json::parse("[1.3]"));
+
+  const std::vector<std::string> lines = ReadLines(dir + "/branch.csv");
+  REQUIRE(lines.size() == 4);
+  const std::vector<std::string> header = Split(lines[0]);
+  // The older columns keep their places; the stability columns come last.
+  CHECK(header[0] == "index");
+  CHECK(header[6] == "energy");
+  REQUIRE(header.size() == 12);
+  CHECK(header[9] == "stable");
+  CHECK(header[10] == "max_multiplier");
+  CHECK(header[11] == "unstable");
+  const std::vector<std::string> none = Split(lines[1]);
+  REQUIRE(none.size() == 12);
+  CHECK(none[9].empty());
+  CHECK(none[10].empty());
+  CHECK(none[11].empty());
+  CHECK(Split(lines[2])[9] == "1");
+  CHECK(Split(lines[2])[11] == "0");
+  CHECK(Split(lines[3])[9] == "0");
+  CHECK(std::stod(Split(lines[3])[10]) == doctest::Approx(std::abs(std::complex(1.5, 0.1))));
+  CHECK(Split(lines[3])[11] == "2");
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("every bifurcation type is written by its name") {
+  CHECK(BifurcationToJson(Bifurcation{})["type"] == "fold");
+  Bifurcation bifurcation;
+  bifurcation.type = BifurcationType::kBranchPoint;
+  CHECK(BifurcationToJson(bifurcation)["type"] == "branch_point");
+  bifurcation.type = BifurcationType::kPeriodDoubling;
+  bifurcation.crossing_multipliers = {{-1.0, 0.0}};
+  const nlohmann::json entry = BifurcationToJson(bifurcation);
+  CHECK(entry["type"] == "period_doubling");
+  CHECK(entry["crossing_multipliers"] == nlohmann::json::parse("[[-1.0, 0.0]]"));
+  CHECK(FloquetToJson(FloquetResult{}).is_null());
+}
+
+}  // namespace
+}  // namespace nfrc
