@@ -4,6 +4,7 @@
 #include <Spectra/GenEigsRealShiftSolver.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -13,6 +14,7 @@ namespace nfrc {
 namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
+using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 using Complex = std::complex<double>;
 
 // The real shift of shift-invert, as a fraction of ω: off the imaginary axis so that the
@@ -21,11 +23,14 @@ constexpr double kShiftFraction = 1e-2;
 // ν = 1/(s − σ) below this fraction of the largest |ν| is an infinite exponent (algebraic
 // rows); finite copies s + ikω have |ν| ≳ 1/(Hω), many orders above.
 constexpr double kInfiniteRatio = 1e-10;
-// Copies of one family have centroids exactly Δk apart; within this fraction of Δk of the
-// boundary ±Δk/2 both copies may be candidates and one is kept.
-constexpr double kBoundaryBand = 0.15;
-// Two boundary candidates are copies of one family if their multipliers agree to this.
-constexpr double kSameMultiplier = 1e-3;
+// Copies s + ikω of one family share Re s and Im s modulo ω up to the truncation of Hill's
+// matrix (1e-4·ω seen on the rod at H = 20); two candidates that agree to this fraction of ω
+// are one family (their multipliers agree to 2π·1e-3 ≈ 0.6 %). Distinct physical multipliers
+// closer than that, or a complex pair within 3e-3 rad of the real axis, are reported once.
+constexpr double kSameExponent = 1e-3;
+// A copy whose eigenvector has more than this share of its weight in the top quarter of the
+// harmonics is shaped by the truncation, not by the dynamics: it is not used.
+constexpr double kEdgeLimit = 0.25;
 
 // Adds scale·(A ⊗ B) in the DOF-major layout: entry (i·nc + r, j·nc + c) = scale·A_ij·B_rc.
 void AddKronecker(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b, double scale,
@@ -139,15 +144,46 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
       t0.emplace_back(offset + c, offset + c, obstacle_stiffness[static_cast<size_t>(local)]);
     }
   }
+  // The linear part's rows, for laws whose force is predicted from them (DLFT).
+  std::array<RowMatrix, 3> linear;
+  for (int k = 0; k < 3; ++k) {
+    const Triplets& triplets = k == 0 ? t0 : (k == 1 ? t1 : t2);
+    linear[static_cast<size_t>(k)].resize(size, size);
+    linear[static_cast<size_t>(k)].setFromTriplets(triplets.begin(), triplets.end());
+  }
   const IndexMap map(system, obstacle_offset, own_offset);
   const int m = system.NumUnknowns();
   for (size_t i = 0; i < system.laws().size(); ++i) {
+    const Nonlinearity& law = *system.laws()[i];
+    const NonlinearityContext& ctx = system.context(static_cast<int>(i));
     Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(m, m);
     Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(m, m);
-    system.laws()[i]->LinearizeForStability(system.context(static_cast<int>(i)), y, omega,
-                                            &jacobian, &velocity);
+    law.LinearizeForStability(ctx, y, omega, &jacobian, &velocity);
     AddMapped(jacobian, map, &t0);
     AddMapped(velocity, map, &t1);
+    if (const auto dependence = law.LinearResidualPart(ctx, y, omega)) {
+      const std::vector<int> dofs = law.Dofs();
+      for (int k = 0; k < 3; ++k) {
+        Eigen::MatrixXd force = Eigen::MatrixXd::Zero(nc, size);
+        for (const auto& [dof_index, coefficient] : dependence->terms) {
+          const int dof = dofs[static_cast<size_t>(dof_index)];
+          force += coefficient * dependence->weights *
+                   Eigen::MatrixXd(linear[static_cast<size_t>(k)].middleRows(dof * nc, nc));
+        }
+        Triplets& triplets = k == 0 ? t0 : (k == 1 ? t1 : t2);
+        for (const auto& [dof_index, row_sign] : dependence->rows) {
+          const int first = ctx.DofOffset(dof_index);  // condensed row of the DOF's block
+          for (int c = 0; c < nc; ++c) {
+            for (const Target& row : map.Of(first + c)) {
+              for (int j = 0; j < size; ++j) {
+                const double value = force(c, j);
+                if (value != 0.0) triplets.emplace_back(row.index, j, row.sign * row_sign * value);
+              }
+            }
+          }
+        }
+      }
+    }
   }
 
   HillPencil pencil;
@@ -214,10 +250,13 @@ class ShiftInvertOperator {
   bool ok_ = false;
 };
 
-// The harmonic centroid k̄ of an eigenvector's DOF signals, and their share of its norm.
-double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* weight) {
+// The harmonic centroid k̄ of an eigenvector's DOF signals, their share of its norm and the
+// share of their weight in harmonics above ¾H.
+double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* weight,
+                double* edge) {
   const HarmonicSet& set = pencil.set;
-  double moment = 0.0, total = 0.0;
+  const double edge_harmonic = 0.75 * set.max_harmonic();
+  double moment = 0.0, total = 0.0, high = 0.0;
   for (int offset : pencil.signal_offsets) {
     for (int p = 0; p < set.num_harmonics(); ++p) {
       const int k = set.harmonics()[static_cast<size_t>(p)];
@@ -231,60 +270,56 @@ double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* wei
       const double minus = std::norm(0.5 * (a + Complex(0, 1) * b));
       moment += k * (plus - minus);
       total += plus + minus;
+      if (k > edge_harmonic) high += plus + minus;
     }
   }
   *weight = total / std::max(q.squaredNorm(), 1e-300);
+  *edge = total > 0.0 ? high / total : 1.0;
   return total > 0.0 ? moment / total : 0.0;
 }
 
 struct Candidate {
   Complex exponent;
   double centroid;
+  double edge;
 };
 
 // One representative per family (see SolveHill), sorted by decreasing |μ|.
 void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
                     const HillOptions& options, FloquetResult* result) {
-  const double spacing = pencil.set.odd_only() ? 2.0 : 1.0;
-  const double half = 0.5 * spacing, band = kBoundaryBand * spacing;
   const double period = 2.0 * std::numbers::pi / pencil.omega;
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return std::abs(a.centroid) < std::abs(b.centroid);
   });
-  std::vector<Complex> accepted;
+  const double omega = pencil.omega;
+  std::vector<std::pair<Complex, Complex>> accepted;  // (μ, exponent folded into the strip)
   for (const Candidate& c : candidates) {
-    const double distance = std::abs(c.centroid);
-    if (distance > half + band) break;
-    const Complex mu = std::exp(c.exponent * period);
-    if (distance >= half - band) {
-      const bool copy = std::any_of(accepted.begin(), accepted.end(), [&](const Complex& other) {
-        return std::abs(other - mu) <= kSameMultiplier * std::max(1.0, std::abs(mu));
-      });
-      if (copy) continue;
-    }
-    accepted.push_back(mu);
-    // Report the exponent folded into the strip |Im s| ≤ ω/2 (copies share μ).
-    const double im = std::remainder(c.exponent.imag(), pencil.omega);
-    result->exponents.emplace_back(c.exponent.real(), im);
+    if (c.edge > kEdgeLimit) continue;
+    // Copies share μ, so the exponent is reported folded into |Im s| ≤ ω/2.
+    const Complex folded(c.exponent.real(), std::remainder(c.exponent.imag(), omega));
+    const bool copy = std::any_of(accepted.begin(), accepted.end(), [&](const auto& other) {
+      const Complex d = other.second - folded;
+      return std::abs(d.real()) <= kSameExponent * omega &&
+             std::abs(std::remainder(d.imag(), omega)) <= kSameExponent * omega;
+    });
+    if (copy) continue;
+    accepted.emplace_back(std::exp(c.exponent * period), folded);
   }
-  std::vector<size_t> order(accepted.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return std::abs(accepted[a]) > std::abs(accepted[b]); });
-  std::vector<Complex> exponents;
-  for (size_t i : order) {
-    result->multipliers.push_back(accepted[i]);
-    exponents.push_back(result->exponents[i]);
+  std::sort(accepted.begin(), accepted.end(), [](const auto& a, const auto& b) {
+    return std::abs(a.first) > std::abs(b.first);
+  });
+  for (const auto& [mu, exponent] : accepted) {
+    result->multipliers.push_back(mu);
+    result->exponents.push_back(exponent);
   }
-  result->exponents = exponents;
   result->max_modulus = result->multipliers.empty() ? 0.0 : std::abs(result->multipliers[0]);
   result->num_unstable = static_cast<int>(std::count_if(
       result->multipliers.begin(), result->multipliers.end(),
       [&](const Complex& mu) { return std::abs(mu) > 1.0 + options.unstable_tolerance; }));
   result->computed = true;
   if (static_cast<int>(accepted.size()) != pencil.state_dimension) {
-    result->message = "selected " + std::to_string(accepted.size()) + " exponents for a state of " +
-                      std::to_string(pencil.state_dimension);
+    result->message = "resolved " + std::to_string(accepted.size()) +
+                      " multipliers for a state of " + std::to_string(pencil.state_dimension);
   }
 }
 
@@ -295,10 +330,10 @@ void AddCandidates(const Eigen::VectorXcd& nu, const Eigen::MatrixXcd& vectors, 
   const int n = static_cast<int>(pencil.d0.rows());
   for (Eigen::Index i = 0; i < nu.size(); ++i) {
     if (std::abs(nu(i)) <= kInfiniteRatio * largest) continue;
-    double weight = 0.0;
-    const double centroid = Centroid(vectors.col(i).head(n), pencil, &weight);
+    double weight = 0.0, edge = 0.0;
+    const double centroid = Centroid(vectors.col(i).head(n), pencil, &weight, &edge);
     if (weight <= 0.0) continue;  // no displacement: an algebraic mode
-    candidates->push_back({sigma + 1.0 / nu(i), centroid});
+    candidates->push_back({sigma + 1.0 / nu(i), centroid, edge});
   }
 }
 
@@ -336,8 +371,7 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
     AddCandidates(solver.eigenvalues(), solver.eigenvectors(), sigma, pencil, &candidates);
   } else {
     // Enough exponents nearest σ to hold each family's central copy and its neighbours.
-    const int copies = pencil.set.odd_only() ? 2 : 3;
-    const int nev = std::min(size - 3, copies * pencil.state_dimension + 6);
+    const int nev = std::min(size - 3, 2 * pencil.state_dimension + 6);
     const int ncv = std::min(size, 2 * nev + 1);
     Spectra::GenEigsRealShiftSolver<ShiftInvertOperator> eigs(*op, nev, ncv, sigma);
     eigs.init();

@@ -42,11 +42,17 @@ struct HillOptions {
 };
 
 // The Floquet exponents and multipliers of a pencil. The pencil is linearised on
-// z = (q, s q_dynamic). Each physical exponent appears in Hill's spectrum as a family
-// s + ikω (k in steps of 2 for odd-only sets, whose copies are 2ω apart); the representative
-// is the member whose eigenvector's harmonic centroid k̄ = Σk|c_k|²/Σ|c_k|² (complex
-// amplitudes c_k of the perturbation's DOF signals) is nearest 0. Near a multiplier −1 the
-// two copies ±iω/2 of one family sit at k̄ ≈ ±Δk/2: one of them is kept (they share μ).
+// z = (q, s q_dynamic) and shift-inverted at a small real σ. Each physical exponent appears
+// in Hill's spectrum as a family of copies s + ikω (k in steps of 2 for odd-only sets) that
+// share μ = exp(sT), T = 2π/ω. Candidates are taken in the order of their eigenvector's
+// harmonic centroid |k̄| (k̄ = Σk|c_k|²/Σ|c_k|² over the complex amplitudes c_k of the DOF
+// signals): the first of each multiplier is the family's representative, later ones with the
+// same μ are its copies. So at a multiplier −1, whose copies ±iω/2 tie at |k̄| = ½ (the
+// failure mode of sorting by centroid alone), one is kept; and a family whose central copy is
+// far from σ (a stiff mode, Im s ≈ ω_m) is still represented by a copy near the axis.
+// Copies with most of their weight in the top quarter of the harmonics are truncation
+// artefacts and are not used. Dense solve up to dense_limit, else Arnoldi (Spectra) for the
+// 2·state + 6 eigenvalues nearest σ.
 FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options);
 
 }  // namespace nfrc

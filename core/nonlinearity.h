@@ -48,6 +48,16 @@ struct LawSummary {
   std::optional<double> min_force;  // N, contact laws: smallest truncated force (fine grid)
 };
 
+// How a law's force depends on the condensed linear residual of its DOFs (DLFT predicts its
+// force from it): f_row(r) += row_sign(r)·W·Σ_i c_i·(A x − b)_{dof i}, with A x − b the
+// condensed linear part's rows. Hill's method replaces those rows by the full model's
+// (s-dependent) rows of the same DOFs, which equal them wherever the other rows hold.
+struct LinearResidualDependence {
+  Eigen::MatrixXd weights;                    // W, NumCoefficients square
+  std::vector<std::pair<int, double>> terms;  // (index into Dofs(), c_i)
+  std::vector<std::pair<int, double>> rows;   // (index into Dofs(), row_sign)
+};
+
 // A nonlinear law of the harmonic-balance problem (the extension point, like Ceres's
 // CostFunction). It adds its force to the equations of its DOFs and, if it has unknowns of
 // its own (e.g. friction-force coefficients), the equations that close them.
@@ -92,6 +102,13 @@ class Nonlinearity {
     (void)velocity_jacobian;
     Eigen::VectorXd scratch = Eigen::VectorXd::Zero(y.size());
     Evaluate(ctx, y, omega, scratch, jacobian, nullptr);
+  }
+
+  // The part of the law's force that LinearizeForStability leaves out because it comes from
+  // the condensed linear residual (see LinearResidualDependence). Default: none.
+  virtual std::optional<LinearResidualDependence> LinearResidualPart(
+      const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/, double /*omega*/) const {
+    return std::nullopt;
   }
 
   // Whether the own unknowns are signals in the HarmonicSet layout (blocks of

@@ -122,6 +122,21 @@ void DlftContact::LinearizeForStability(const NonlinearityContext& ctx, const Ei
   }
 }
 
+std::optional<LinearResidualDependence> DlftContact::LinearResidualPart(
+    const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
+  LinearResidualDependence dependence;
+  dependence.weights = ctx.fourier->WeightedProduct(PredictAt(ctx, y, omega).mask);
+  // n·W·(−n·rows) = −W·rows since n = ±1.
+  if (spec_.geometry.other >= 0) {
+    dependence.terms = {{0, -0.5}, {1, 0.5}};
+    dependence.rows = {{0, 1.0}, {1, -1.0}};
+  } else {
+    dependence.terms = {{0, -1.0}};
+    dependence.rows = {{0, 1.0}};
+  }
+  return dependence;
+}
+
 std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,
                                             const Eigen::VectorXd& y, double omega,
                                             const FourierTransform& fine) const {

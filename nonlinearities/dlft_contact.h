@@ -37,13 +37,17 @@ class DlftContact : public Nonlinearity {
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
-  // The penalty-equivalent Jacobian ε on the samples in contact. Evaluate's Jacobian also
-  // differentiates the prediction through the condensed operator Z_red(ω), which belongs to
-  // the periodic solve, not to the contact: a perturbed motion sees the contact as a spring ε
-  // where the corrected force is positive (the DLFT solution penetrates by λ/ε there).
+  // Hill's method: the ε part of Evaluate's Jacobian, ε·W on the law's DOFs with W = P
+  // diag(mask) E; the part through the condensed operator is LinearResidualPart, so that the
+  // full-model pencil condenses back to Evaluate's Jacobian (its folds are Hill's +1 crossings).
   void LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                              Eigen::MatrixXd* jacobian,
                              Eigen::MatrixXd* velocity_jacobian) const override;
+  // λ̃ = W(−n(A x − b) − ε g): force n·λ̃ on the DOF (−n·λ̃ on the other), rows (A_a − A_b)/2
+  // for a pair.
+  std::optional<LinearResidualDependence> LinearResidualPart(const NonlinearityContext& ctx,
+                                                             const Eigen::VectorXd& y,
+                                                             double omega) const override;
   std::vector<LawSignal> Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                  double omega, const FourierTransform& fine) const override;
   LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
