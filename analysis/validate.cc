@@ -157,6 +157,34 @@ void RunTransients(const Case& the_case, const ValidationSettings& settings, Har
   if (point->primary < 0 && !point->transients.empty()) point->primary = 0;
 }
 
+// The transient monodromy of each HBM solution at ω, from its state at t = 0.
+void RunMonodromies(const TransientModel& model, const ValidationSettings& settings,
+                    HarmonicSystem& system, TransientIntegrator& integrator,
+                    const ValidationOptions& options, ValidationPoint* point) {
+  point->stability.resize(point->solutions.size());
+  if (!settings.monodromy.enabled) return;
+  for (size_t i = 0; i < point->solutions.size(); ++i) {
+    if (options.stop != nullptr && options.stop->load()) break;
+    const CrossingSolution& s = point->solutions[i];
+    std::optional<MonodromyResult>& slot = point->stability[i].monodromy;
+    slot = ComputeMonodromy(integrator, model, point->omega, StateAtZero(system, s),
+                            settings.monodromy, options.stop);
+    const MonodromyResult& m = *slot;
+    if (options.progress != nullptr) {
+      *options.progress << "nfrc validate: omega " << point->omega << ", solution " << s.label
+                        << ": monodromy ";
+      if (m.ok) {
+        *options.progress << "max |mu| " << m.max_modulus() << " ("
+                          << (m.max_modulus() < 1.0 ? "stable" : "unstable") << ")";
+      } else {
+        *options.progress << "failed (" << m.message << ")";
+      }
+      *options.progress << ", " << m.integrations << " periods integrated, " << m.wall_seconds
+                        << " s\n";
+    }
+  }
+}
+
 void RunChirps(const Case& the_case, const ChirpSettings& chirp, TransientIntegrator& integrator,
                const ValidationOptions& options, std::vector<ChirpRun>* runs) {
   const double mean_omega = 0.5 * (chirp.omega_start + chirp.omega_end);
@@ -248,6 +276,7 @@ ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& se
                         << " HBM solution(s)\n";
     }
     RunTransients(the_case, settings, *system, *integrator, options, &point);
+    RunMonodromies(transient_model, settings, *system, *integrator, options, &point);
     if (options.observer != nullptr) options.observer->OnPoint(point);
   }
   if (settings.chirp.enabled && !(options.stop != nullptr && options.stop->load())) {

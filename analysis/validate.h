@@ -11,6 +11,7 @@
 #include "analysis/solve_at.h"
 #include "analysis/trace.h"
 #include "analysis/validation_settings.h"
+#include "validation/monodromy.h"
 #include "validation/period_measures.h"
 #include "validation/transient.h"
 
@@ -44,11 +45,22 @@ struct TransientRun {
   std::optional<TransientComparison> comparison;  // periodic and an HBM solution to match
 };
 
+// Stability checks of one HBM solution (the same index in ValidationPoint::solutions): one
+// field per method, so that others (Hill's multipliers) sit next to it.
+struct SolutionStability {
+  // The transient monodromy at the HBM state at t = 0 (the state "start hbm" starts from):
+  // the orbit may be unstable, so it is not the transient's final state; the HBM truncation
+  // error is then the only offset from the orbit (MonodromyResult::closure measures it).
+  // Unset when validation.monodromy.enabled is false or a stop came first.
+  std::optional<MonodromyResult> monodromy;
+};
+
 // Everything validated at one requested ω.
 struct ValidationPoint {
   double omega = 0.0;                       // rad per time unit
   std::vector<CrossingSolution> solutions;  // the converged HBM crossings
   std::vector<TransientRun> transients;     // one per solution (start hbm) or one from rest
+  std::vector<SolutionStability> stability;  // one per solution
   // The transient that stands for this ω (the first that stayed where it started, else the
   // first), −1 if none ran; its comparison's solution is the one that stands for the HBM.
   int primary = -1;
@@ -109,7 +121,10 @@ struct ValidationOptions {
 // a rigid obstacle) from each HBM solution or from rest, matches each periodic transient to
 // the nearest HBM solution (relative first-harmonic amplitudes and energy) and compares per
 // output DOF max |x|, first-harmonic amplitude, mean energy, RMS difference of the signals
-// and phase counts. With a chirp configured it also sweeps up and/or down. Throws InputError
+// and phase counts. Unless validation.monodromy.enabled is false it computes the transient
+// monodromy matrix and Floquet multipliers of every HBM solution (whatever the start; a
+// failure there is reported in it and does not make the result incomplete). With a chirp
+// configured it also sweeps up and/or down. Throws InputError
 // for bad input (a non-arclength method, too few transient samples for the harmonics).
 ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& settings,
                               const ValidationOptions& options = {});

@@ -13,6 +13,7 @@ void ValidationSettings::Validate() const {
     }
   }
   transient.Validate();
+  monodromy.Validate();
   if (!chirp.enabled) return;
   if (!(chirp.omega_start > 0.0))
     throw InputError("validation.chirp.omega_start: must be positive");

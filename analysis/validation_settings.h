@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "validation/monodromy.h"
 #include "validation/transient.h"
 
 namespace nfrc {
@@ -24,7 +25,8 @@ struct ChirpSettings {
 //   "validation": {"omega": [..], "start": "hbm" | "rest",
 //                  "transient": {TransientOptions fields},
 //                  "chirp": {"omega_start", "omega_end", "cycles", "samples_per_cycle",
-//                            "directions": ["up", "down"]}}
+//                            "directions": ["up", "down"]},
+//                  "monodromy": {"enabled", "relative_step", "scale"}}
 struct ValidationSettings {
   enum class Start {
     kHbm,   // one transient from each HBM solution at ω (tests its stability, fast to settle)
@@ -34,6 +36,8 @@ struct ValidationSettings {
   Start start = Start::kHbm;
   TransientOptions transient;
   ChirpSettings chirp;
+  // The transient monodromy matrix of every HBM solution validated (validation/monodromy.h).
+  MonodromyOptions monodromy;
 
   // Throws InputError naming "validation.<field>" for a bad value.
   void Validate() const;

@@ -67,6 +67,21 @@ ChirpSettings ReadChirp(const nlohmann::json& spec) {
   return c;
 }
 
+MonodromyOptions ReadMonodromy(const nlohmann::json& spec) {
+  InputFields fields(spec, "validation.monodromy");
+  MonodromyOptions o;
+  o.enabled = fields.OptionalBool("enabled", o.enabled);
+  o.relative_step = fields.OptionalNumber("relative_step", o.relative_step);
+  if (!(o.relative_step >= 1e-10 && o.relative_step <= 1e-2)) {
+    fields.Fail("relative_step", "must be in [1e-10, 1e-2]");
+  }
+  o.scale = fields.OptionalNumber("scale", o.scale);
+  if (!(o.scale >= 0.0)) fields.Fail("scale", "must be >= 0 (0: automatic)");
+  fields.Finish();
+  o.Validate();
+  return o;
+}
+
 }  // namespace
 
 ValidationSettings ReadValidationSettings(const nlohmann::json& validation) {
@@ -87,6 +102,7 @@ ValidationSettings ReadValidationSettings(const nlohmann::json& validation) {
   }
   if (fields.Has("transient")) s.transient = ReadTransient(fields.RequiredObject("transient"));
   if (fields.Has("chirp")) s.chirp = ReadChirp(fields.RequiredObject("chirp"));
+  if (fields.Has("monodromy")) s.monodromy = ReadMonodromy(fields.RequiredObject("monodromy"));
   fields.Finish();
   return s;
 }

@@ -1,6 +1,7 @@
 #include "tools/validation_writer.h"
 
 #include <filesystem>
+#include <complex>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -70,6 +71,19 @@ nlohmann::json TransientJson(const TransientRun& run, const std::string& signals
     j["signals"] = signals_file;
   }
   return j;
+}
+
+// The transient monodromy of one HBM solution: multipliers as [re, im], by decreasing |μ|.
+nlohmann::json MonodromyJson(const MonodromyResult& m) {
+  nlohmann::json multipliers = nlohmann::json::array();
+  for (const std::complex<double>& mu : m.multipliers) multipliers.push_back({mu.real(), mu.imag()});
+  return {{"ok", m.ok},
+          {"message", m.message},
+          {"multipliers", std::move(multipliers)},
+          {"max_modulus", m.max_modulus()},
+          {"closure", m.closure},
+          {"integrations", m.integrations},
+          {"wall_seconds", m.wall_seconds}};
 }
 
 std::string Fixed(double value, int precision) {
@@ -171,6 +185,10 @@ void ValidationWriter::OnBranch(const TraceResult& trace) {
                  {"steady_tolerance", transient.steady_tolerance},
                  {"max_periods", transient.max_periods},
                  {"samples_per_period", transient.samples_per_period}}},
+               {"monodromy_options",
+                {{"enabled", settings_.monodromy.enabled},
+                 {"relative_step", settings_.monodromy.relative_step},
+                 {"scale", settings_.monodromy.scale}}},
                {"points", nlohmann::json::array()}};
   WriteJson();
   if (table_ != nullptr) WriteTableHeader(*table_);
@@ -191,8 +209,13 @@ void ValidationWriter::OnPoint(const ValidationPoint& point) {
   nlohmann::json entry = {{"omega", point.omega},
                           {"hbm_solutions", nlohmann::json::array()},
                           {"transients", nlohmann::json::array()}};
-  for (const CrossingSolution& s : point.solutions)
-    entry["hbm_solutions"].push_back(CrossingToJson(s));
+  for (size_t i = 0; i < point.solutions.size(); ++i) {
+    nlohmann::json solution = CrossingToJson(point.solutions[i]);
+    if (i < point.stability.size() && point.stability[i].monodromy) {
+      solution["monodromy"] = MonodromyJson(*point.stability[i].monodromy);
+    }
+    entry["hbm_solutions"].push_back(std::move(solution));
+  }
   for (size_t i = 0; i < point.transients.size(); ++i) {
     entry["transients"].push_back(TransientJson(point.transients[i], point_files_.at(i)));
   }

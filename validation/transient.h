@@ -164,6 +164,13 @@ class TransientIntegrator {
   // Integrates a chirp (excitation.chirp) from rest over its duration, sampling
   // `samples_per_cycle` points per excitation cycle for max |x|.
   virtual ChirpResult RunChirp(const Excitation& chirp, int samples_per_cycle) = 0;
+  // The period map iterated: integrates `periods` ≥ 1 periods T = 2π/ω of the harmonic
+  // excitation at ω from `start` at t = 0 (excitation phase 0, as RunToSteadyState) without
+  // recording or steady-state checks, and puts the state at t = periods·T in `end`. False with
+  // `message` set if the integrator failed or max_seconds passed. For the monodromy matrix
+  // (validation/monodromy.h).
+  virtual bool IntegratePeriods(double omega, const InitialState& start, int periods,
+                                InitialState* end, std::string* message) = 0;
 };
 
 }  // namespace nfrc

@@ -27,6 +27,8 @@ class TransientDriver : public TransientIntegrator {
 
   TransientResult RunToSteadyState(double omega, const InitialState& start) override;
   ChirpResult RunChirp(const Excitation& chirp, int samples_per_cycle) override;
+  bool IntegratePeriods(double omega, const InitialState& start, int periods, InitialState* end,
+                        std::string* message) override;
 
  protected:
   const TransientStepper& stepper() const { return *stepper_; }

@@ -27,6 +27,11 @@ constexpr double kC = 0.05, kK3 = 0.1, kF = 0.18;
 // truncation error of the Duffing response (0.1x³ with |x| ≲ 2.5) of about the 9th harmonic's
 // size, ~1e-7 relative. 1e-5 leaves two orders of margin and still catches any real mismatch.
 constexpr double kDuffingAgreement = 1e-5;
+// det Φ = exp(−cT) whatever the cubic (Liouville: the state matrix's trace is −c). The FD
+// monodromy is accurate to ~1e-7 (tests/validation/monodromy_test.cc); starting from the HBM
+// state, off the orbit by its truncation error (~1e-7 relative), moves Φ by as much. 1e-5
+// leaves margin.
+constexpr double kLiouvilleAgreement = 1e-5;
 
 Case DuffingCase() { return LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json"); }
 
@@ -66,6 +71,39 @@ TEST_CASE("validate: Duffing transients match the HBM branch and the middle solu
     }
   }
   CHECK(stayed == 2);  // the lower and upper solutions are stable
+
+  // The transient monodromy from each HBM solution agrees: only the middle one is unstable.
+  REQUIRE(single.stability.size() == 1);
+  REQUIRE(fold.stability.size() == 3);
+  for (const ValidationPoint* point : {&single, &fold}) {
+    const double liouville = std::exp(-kC * 2.0 * std::numbers::pi / point->omega);
+    for (size_t i = 0; i < point->solutions.size(); ++i) {
+      REQUIRE(point->stability[i].monodromy.has_value());
+      const MonodromyResult& m = *point->stability[i].monodromy;
+      REQUIRE_MESSAGE(m.ok, m.message);
+      REQUIRE(m.multipliers.size() == 2);
+      const std::string& label = point->solutions[i].label;
+      MESSAGE("omega " << point->omega << ", " << label << ": mu " << m.multipliers[0] << ", "
+                       << m.multipliers[1] << ", det/exp(-cT) "
+                       << std::abs(m.multipliers[0] * m.multipliers[1]) / liouville
+                       << ", closure " << m.closure);
+      CHECK(std::abs(m.multipliers[0] * m.multipliers[1] - liouville) <
+            kLiouvilleAgreement * liouville);
+      CHECK(m.closure < kDuffingAgreement);
+      CHECK((m.max_modulus() > 1.0) == (label == "middle"));
+    }
+  }
+}
+
+TEST_CASE("validate: monodromy off computes none") {
+  Case the_case = DuffingCase();
+  ValidationSettings settings;
+  settings.omegas = {0.8};
+  settings.monodromy.enabled = false;
+  const ValidationResult result = ValidateCase(the_case, settings);
+  REQUIRE(result.points.size() == 1);
+  REQUIRE(result.points[0].stability.size() == 1);
+  CHECK(!result.points[0].stability[0].monodromy.has_value());
 }
 
 // ‖harmonic balance residual‖ of the Duffing equation for coefficients c (HarmonicSet layout

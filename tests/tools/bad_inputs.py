@@ -229,6 +229,15 @@ case_error("stability_iterations_zero", DUFFING,
 case_error("stability_unknown_key", DUFFING, setitem(["stability"], {"enable": True}),
            "stability.enable: unknown key")
 case_error("stability_not_object", DUFFING, setitem(["stability"], True), "stability")
+case_error("validation_monodromy_enabled_not_bool", DUFFING,
+           setitem(["validation"], {"monodromy": {"enabled": "yes"}}),
+           "validation.monodromy.enabled")
+case_error("validation_monodromy_step_zero", DUFFING,
+           setitem(["validation"], {"monodromy": {"relative_step": 0}}),
+           "validation.monodromy.relative_step")
+case_error("validation_monodromy_unknown_key", DUFFING,
+           setitem(["validation"], {"monodromy": {"step": 1e-6}}),
+           "validation.monodromy.step")
 
 # A numerical failure caused by the input is a status with its cause (exit 3, points kept).
 overflow = write("coefficient_1e308.json",

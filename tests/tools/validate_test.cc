@@ -47,6 +47,16 @@ TEST_CASE("validate: the writer records every run of a Duffing validation on dis
   const nlohmann::json& point = doc["points"][0];
   REQUIRE(point["hbm_solutions"].size() == 3);
   REQUIRE(point["transients"].size() == 3);
+  for (const nlohmann::json& solution : point["hbm_solutions"]) {
+    REQUIRE(solution.contains("monodromy"));
+    const nlohmann::json& m = solution["monodromy"];
+    CHECK(m["ok"] == true);
+    REQUIRE(m["multipliers"].size() == 2);
+    CHECK(m["multipliers"][0].size() == 2);  // [re, im]
+    CHECK(m["integrations"] == 5);
+    CHECK((m["max_modulus"].get<double>() > 1.0) == (solution["branch"] == "middle"));
+  }
+  CHECK(doc["monodromy_options"]["enabled"] == true);
   for (const nlohmann::json& run : point["transients"]) {
     CHECK(run["periodic"] == true);
     CHECK(std::filesystem::exists(dir + "/" + run["signals"].get<std::string>()));
@@ -127,6 +137,16 @@ TEST_CASE("validate: settings name the bad field") {
   CHECK(message(R"({"chirp": {"omega_start": 1, "omega_end": 2, "directions": ["left"]}})")
             .find("validation.chirp.directions") != std::string::npos);
   CHECK(message(R"({"omgea": [1]})").find("omgea") != std::string::npos);
+  CHECK(message(R"({"monodromy": {"enabled": 1}})").find("validation.monodromy.enabled") !=
+        std::string::npos);
+  CHECK(message(R"({"monodromy": {"relative_step": 1}})")
+            .find("validation.monodromy.relative_step") != std::string::npos);
+  CHECK(message(R"({"monodromy": {"scale": -1}})").find("validation.monodromy.scale") !=
+        std::string::npos);
+  CHECK(message(R"({"monodromy": {"steps": 1}})").find("validation.monodromy.steps") !=
+        std::string::npos);
+  CHECK(!ReadValidationSettings(nlohmann::json::parse(R"({"monodromy": {"enabled": false}})"))
+             .monodromy.enabled);
 }
 
 }  // namespace
