@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <ostream>
 
+#include "analysis/bifurcation.h"
 #include "core/errors.h"
 #include "validation/make_integrator.h"
 
@@ -157,6 +159,31 @@ void RunTransients(const Case& the_case, const ValidationSettings& settings, Har
   if (point->primary < 0 && !point->transients.empty()) point->primary = 0;
 }
 
+// Hill's multipliers of each HBM solution, and how far they are from the transient ones.
+void CompareStability(const Case& the_case, HarmonicSystem& system, ValidationPoint* point) {
+  if (!the_case.stability.enabled) return;
+  StabilityMonitor monitor(system, the_case.stability, the_case.continuation);
+  for (size_t i = 0; i < point->solutions.size(); ++i) {
+    SolutionStability& stability = point->stability[i];
+    stability.hill = monitor.Analyze(point->solutions[i].y, point->omega);
+    if (!stability.hill.computed || !stability.monodromy || !stability.monodromy->ok) continue;
+    const std::vector<std::complex<double>>& transient = stability.monodromy->multipliers;
+    if (transient.empty()) continue;
+    double worst = 0.0;
+    for (const std::complex<double>& mu : stability.hill.multipliers) {
+      if (std::abs(mu) < SolutionStability::kCompared) continue;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const std::complex<double>& other : transient) {
+        nearest = std::min(nearest, std::abs(mu - other));
+      }
+      worst = std::max(worst, nearest);
+    }
+    stability.multiplier_difference = worst;
+    stability.max_modulus_difference =
+        std::abs(stability.hill.max_modulus - stability.monodromy->max_modulus());
+  }
+}
+
 // The transient monodromy of each HBM solution at ω, from its state at t = 0.
 void RunMonodromies(const TransientModel& model, const ValidationSettings& settings,
                     HarmonicSystem& system, TransientIntegrator& integrator,
@@ -277,6 +304,7 @@ ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& se
     }
     RunTransients(the_case, settings, *system, *integrator, options, &point);
     RunMonodromies(transient_model, settings, *system, *integrator, options, &point);
+    CompareStability(the_case, *system, &point);
     if (options.observer != nullptr) options.observer->OnPoint(point);
   }
   if (settings.chirp.enabled && !(options.stop != nullptr && options.stop->load())) {

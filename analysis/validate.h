@@ -9,6 +9,7 @@
 #include "analysis/case.h"
 #include "analysis/solution_report.h"
 #include "analysis/solve_at.h"
+#include "analysis/stability.h"
 #include "analysis/trace.h"
 #include "analysis/validation_settings.h"
 #include "validation/monodromy.h"
@@ -53,6 +54,14 @@ struct SolutionStability {
   // error is then the only offset from the orbit (MonodromyResult::closure measures it).
   // Unset when validation.monodromy.enabled is false or a stop came first.
   std::optional<MonodromyResult> monodromy;
+  // Hill's multipliers of the same HBM solution (computed = false when stability is off).
+  FloquetResult hill;
+  // Both computed: the largest distance from a Hill multiplier with |μ| ≥ kCompared to the
+  // nearest transient multiplier (the multipliers that decide stability; the smaller ones
+  // are strongly damped and the HBM truncation dominates them), and |max|μ|_Hill − max|μ|_transient|.
+  static constexpr double kCompared = 0.05;
+  std::optional<double> multiplier_difference;
+  std::optional<double> max_modulus_difference;
 };
 
 // Everything validated at one requested ω.

@@ -86,6 +86,24 @@ nlohmann::json MonodromyJson(const MonodromyResult& m) {
           {"wall_seconds", m.wall_seconds}};
 }
 
+// Hill's multipliers of one HBM solution and their distance to the transient ones.
+nlohmann::json HillJson(const SolutionStability& stability) {
+  const FloquetResult& hill = stability.hill;
+  nlohmann::json multipliers = nlohmann::json::array();
+  for (const std::complex<double>& mu : hill.multipliers) multipliers.push_back({mu.real(), mu.imag()});
+  nlohmann::json j = {{"multipliers", std::move(multipliers)},
+                      {"max_modulus", hill.max_modulus},
+                      {"unstable", hill.num_unstable},
+                      {"stable", hill.stable()},
+                      {"message", hill.message},
+                      {"seconds", hill.seconds}};
+  if (stability.multiplier_difference) {
+    j["difference_to_monodromy"] = *stability.multiplier_difference;
+    j["max_modulus_difference"] = *stability.max_modulus_difference;
+  }
+  return j;
+}
+
 std::string Fixed(double value, int precision) {
   std::ostringstream out;
   out << std::setprecision(precision) << value;
@@ -211,8 +229,10 @@ void ValidationWriter::OnPoint(const ValidationPoint& point) {
                           {"transients", nlohmann::json::array()}};
   for (size_t i = 0; i < point.solutions.size(); ++i) {
     nlohmann::json solution = CrossingToJson(point.solutions[i]);
-    if (i < point.stability.size() && point.stability[i].monodromy) {
-      solution["monodromy"] = MonodromyJson(*point.stability[i].monodromy);
+    if (i < point.stability.size()) {
+      const SolutionStability& stability = point.stability[i];
+      if (stability.monodromy) solution["monodromy"] = MonodromyJson(*stability.monodromy);
+      if (stability.hill.computed) solution["hill"] = HillJson(stability);
     }
     entry["hbm_solutions"].push_back(std::move(solution));
   }
