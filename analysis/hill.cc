@@ -371,8 +371,8 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
     AddCandidates(solver.eigenvalues(), solver.eigenvectors(), sigma, pencil, &candidates);
   } else {
     // Enough exponents nearest σ to hold each family's central copy and its neighbours.
-    const int nev = std::min(size - 3, 2 * pencil.state_dimension + 6);
-    const int ncv = std::min(size, 2 * nev + 1);
+    const int nev = std::min(size - 3, pencil.state_dimension + 6);
+    const int ncv = std::min(size, nev + std::max(20, nev / 2));
     Spectra::GenEigsRealShiftSolver<ShiftInvertOperator> eigs(*op, nev, ncv, sigma);
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
