@@ -46,6 +46,9 @@ struct Case {
   std::vector<double> signals_at;         // ω at which time signals are resolved
   ValidationSettings validation;
   StabilityOptions stability;  // Hill's method on every traced point, bifurcations
+  // Responses of period m·T (SubharmonicCase): the harmonics are of ω/m and so is the
+  // continuation parameter; writers report ω = m·λ. 1 for every case read from a file.
+  int period_multiple = 1;
 
   // Cross-field checks of a case built in memory or changed after reading; throws InputError
   // naming the case-file field ("nonlinearities[1].mu: must be non-negative").

@@ -294,6 +294,9 @@ void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
   const double omega = pencil.omega;
   std::vector<std::pair<Complex, Complex>> accepted;  // (μ, exponent folded into the strip)
   for (const Candidate& c : candidates) {
+    // The state has this many exponents: further families are truncation artefacts (they
+    // come after the physical ones in centroid order).
+    if (static_cast<int>(accepted.size()) == pencil.state_dimension) break;
     if (c.edge > kEdgeLimit) continue;
     // Copies share μ, so the exponent is reported folded into |Im s| ≤ ω/2.
     const Complex folded(c.exponent.real(), std::remainder(c.exponent.imag(), omega));

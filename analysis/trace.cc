@@ -76,8 +76,9 @@ class TraceRecorder : public ContinuationObserver {
     found->after_point = index - 1;
     found->measures = reporter_.analyzer().Measure(found->y, found->omega);
     if (options_.progress != nullptr) {
-      *options_.progress << "nfrc: " << ToString(found->type) << " at omega = " << found->omega
-                         << " (+/- " << found->omega_accuracy << ")\n";
+      const double m = case_.period_multiple;  // λ = ω/m
+      *options_.progress << "nfrc: " << ToString(found->type) << " at omega = " << m * found->omega
+                         << " (+/- " << m * found->omega_accuracy << ")\n";
     }
     result_->bifurcations.push_back(std::move(*found));
     if (options_.observer != nullptr) options_.observer->OnBifurcation(result_->bifurcations.back());
@@ -169,7 +170,9 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
                       << the_case.harmonics.num_samples() << " samples), omega "
                       << continuation.lambda_start << " -> " << continuation.lambda_end << "\n";
   }
-  const Eigen::VectorXd guess = StartingGuess(the_case, *system, options.progress, options.stop);
+  const Eigen::VectorXd guess =
+      options.start != nullptr ? *options.start
+                               : StartingGuess(the_case, *system, options.progress, options.stop);
   result.branch = Trace(*system, continuation, &recorder, &guess);
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";

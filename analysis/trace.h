@@ -69,6 +69,9 @@ struct TraceOptions {
   const std::atomic<bool>* stop = nullptr;  // polled after every point
   TraceObserver* observer = nullptr;        // results as they come
   bool solve_signals = true;                // resolve the case's signals_at crossings
+  // A solution (or close guess) at continuation.lambda_start to start from, instead of the
+  // linear guess and the harmonic ladder (branch switching); null: none.
+  const Eigen::VectorXd* start = nullptr;
 };
 
 // A traced branch and everything reported along it.

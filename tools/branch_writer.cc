@@ -83,11 +83,12 @@ nlohmann::json FloquetToJson(const FloquetResult& floquet) {
           {"multipliers", ComplexListToJson(floquet.multipliers)}};
 }
 
-nlohmann::json BifurcationToJson(const Bifurcation& bifurcation) {
+// `factor`: the case's period multiple (λ = ω/m).
+nlohmann::json BifurcationToJson(const Bifurcation& bifurcation, double factor) {
   const PointMeasures& m = bifurcation.measures;
   return {{"type", ToString(bifurcation.type)},
-          {"omega", bifurcation.omega},
-          {"omega_accuracy", bifurcation.omega_accuracy},
+          {"omega", factor * bifurcation.omega},
+          {"omega_accuracy", factor * bifurcation.omega_accuracy},
           {"converged", bifurcation.converged},
           {"iterations", bifurcation.iterations},
           {"after_point", bifurcation.after_point},
@@ -137,7 +138,7 @@ nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
 }
 
 BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json source)
-    : dir_(std::move(dir)), case_(the_case) {
+    : dir_(std::move(dir)), case_(the_case), omega_factor_(the_case.period_multiple) {
   std::error_code error;
   std::filesystem::create_directories(dir_, error);
   if (error) throw OutputError(dir_ + ": cannot create output directory: " + error.message());
@@ -160,6 +161,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
                  {"samples", set.num_samples()},
                  {"list", set.harmonics()}}},
                {"output_dofs", case_.output_names},
+               {"period_multiple", case_.period_multiple},
                {"unknowns", 0},
                {"options", OptionsToJson(case_)},
                {"stability", StabilityOptionsToJson(case_.stability)},
@@ -179,7 +181,7 @@ void BranchWriter::OnStart(int num_unknowns) {
 bool BranchWriter::OnPoint(const TracePoint& record) {
   const BranchPoint& point = record.point;
   nlohmann::json entry = {{"index", record.index},
-                          {"omega", point.lambda},
+                          {"omega", omega_factor_ * point.lambda},
                           {"step", point.step},
                           {"newton_iterations", point.newton_iterations},
                           {"residual_norm", point.residual_norm},
@@ -200,7 +202,7 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
   }
   document_["points"].push_back(std::move(entry));
   const PointMeasures& m = record.measures.response;
-  csv_ << record.index << ',' << point.lambda << ',' << point.step << ',' << point.newton_iterations
+  csv_ << record.index << ',' << omega_factor_ * point.lambda << ',' << point.step << ',' << point.newton_iterations
        << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
@@ -223,7 +225,7 @@ void BranchWriter::OnSignals(const SolutionSignals& signals) {
     samples_name = "samples_" + std::to_string(number) + ".csv";
     WriteSignalTable(dir_ + "/" + samples_name, signals.samples);
   }
-  nlohmann::json entry = {{"omega", signals.omega},
+  nlohmann::json entry = {{"omega", omega_factor_ * signals.omega},
                           {"file", name},
                           {"after_point", signals.after_point},
                           {"converged", signals.converged},
@@ -238,14 +240,14 @@ void BranchWriter::OnSignals(const SolutionSignals& signals) {
 void BranchWriter::OnFold(const TraceFold& record) {
   const Fold& fold = record.fold;
   const PointMeasures& m = record.measures;
-  document_["folds"].push_back({{"omega", fold.lambda},
+  document_["folds"].push_back({{"omega", omega_factor_ * fold.lambda},
                                 {"energy", m.energy},
                                 {"max_abs", m.max_abs},
                                 {"min", m.min},
                                 {"max", m.max},
                                 {"h1", m.h1},
                                 {"after_point", fold.after_point},
-                                {"omega_accuracy", fold.lambda_accuracy},
+                                {"omega_accuracy", omega_factor_ * fold.lambda_accuracy},
                                 {"tangent_omega", fold.tangent_lambda},
                                 {"iterations", fold.iterations},
                                 {"converged", fold.converged}});
@@ -253,7 +255,7 @@ void BranchWriter::OnFold(const TraceFold& record) {
 }
 
 void BranchWriter::OnBifurcation(const Bifurcation& bifurcation) {
-  document_["bifurcations"].push_back(BifurcationToJson(bifurcation));
+  document_["bifurcations"].push_back(BifurcationToJson(bifurcation, omega_factor_));
   WriteJson();
 }
 

@@ -42,6 +42,8 @@ class BranchWriter : public TraceObserver {
 
   std::string dir_;
   const Case& case_;
+  // ω = m·λ for a case of period m·T (Case::period_multiple), else 1.
+  double omega_factor_ = 1.0;
   CsvStream csv_;  // 12 significant digits
   nlohmann::json document_;
   std::chrono::steady_clock::time_point last_json_write_;

@@ -1,5 +1,6 @@
 #include "tools/run_case.h"
 
+#include "analysis/branch_switching.h"
 #include "analysis/trace.h"
 #include "tools/branch_writer.h"
 
@@ -15,6 +16,30 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
   options.observer = &writer;
   TraceResult result = TraceCase(the_case, options);
   writer.Finish(result.branch.summary);
+  // The period-2 branch of every period doubling, each in its own directory.
+  int number = 0;
+  for (const Bifurcation& bifurcation : result.bifurcations) {
+    if (bifurcation.type != BifurcationType::kPeriodDoubling) continue;
+    if (stop != nullptr && stop->load()) break;
+    const std::string dir = out_dir + "/period2_" + std::to_string(++number);
+    const Case sub = SubharmonicCase(the_case, 2);
+    BranchWriter sub_writer(dir, sub, source);
+    TraceOptions sub_options = options;
+    sub_options.observer = &sub_writer;
+    const SwitchedBranch switched = FollowPeriodDoubling(the_case, bifurcation, sub_options);
+    if (switched.started) {
+      sub_writer.Finish(switched.trace.branch.summary);
+    } else {
+      ContinuationSummary summary;
+      summary.reason = TerminationReason::kStartFailed;
+      summary.message = switched.message;
+      sub_writer.Finish(summary);
+    }
+    if (progress != nullptr) {
+      *progress << "nfrc: period-2 branch " << number << ": " << switched.message << ", wrote "
+                << dir << "/branch.json\n";
+    }
+  }
   return std::move(result.branch);
 }
 

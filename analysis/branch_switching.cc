@@ -1,0 +1,164 @@
+#include "analysis/branch_switching.h"
+
+#include <cmath>
+#include <ostream>
+
+#include "continuation/fixed_lambda.h"
+
+namespace nfrc {
+namespace {
+
+// Beside the period doubling the period-2 amplitude grows like √|ν − ν_pd|; the first try is
+// this fraction of ν away, the amplitudes of φ relative to ‖y_pd‖.
+constexpr double kSideOffset = 2e-3;
+constexpr double kAmplitudes[] = {0.05, 0.15, 0.4};
+// A solution with less odd-harmonic content than this has fallen back onto period 1.
+constexpr double kMinimumContent = 1e-4;
+constexpr int kInverseIterations = 6;
+
+// Positions of a set's harmonics, by harmonic number (−1: not in the set).
+std::vector<int> PositionOf(const HarmonicSet& set) {
+  std::vector<int> position(static_cast<size_t>(set.max_harmonic()) + 1, -1);
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    position[static_cast<size_t>(set.harmonics()[static_cast<size_t>(p)])] = p;
+  }
+  return position;
+}
+
+// A null vector of the period-2 system's Jacobian in the odd ν-harmonics at (y, ν).
+std::optional<Eigen::VectorXd> OddNullVector(HarmonicSystem& system, const Eigen::VectorXd& y,
+                                             double nu) {
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  if (!system.Evaluate(y, nu, &residual, &jacobian, nullptr)) return std::nullopt;
+  const HarmonicSet& set = system.harmonic_set();
+  const int nc = set.NumCoefficients();
+  // Start from the odd harmonics only; the Jacobian keeps odd and even ν-harmonics apart on
+  // a period-1 solution, so inverse iteration stays there.
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(y.size());
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    if (set.harmonics()[static_cast<size_t>(p)] % 2 == 0) continue;
+    for (Eigen::Index block = 0; block + nc <= y.size(); block += nc) {
+      v(block + set.CosIndex(p)) = 1.0;
+      v(block + set.SinIndex(p)) = 0.5;
+    }
+  }
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian);
+  for (int i = 0; i < kInverseIterations; ++i) {
+    v = lu.solve(v);
+    if (!v.allFinite() || v.norm() == 0.0) return std::nullopt;
+    v.normalize();
+  }
+  return v;
+}
+
+}  // namespace
+
+Case SubharmonicCase(const Case& base, int multiple) {
+  Case sub = base;
+  const double m = multiple;
+  sub.harmonics = HarmonicSet(multiple * base.harmonics.max_harmonic(), false,
+                              multiple * base.harmonics.num_samples());
+  for (ForcingTerm& term : sub.model.forcing) term.harmonic *= multiple;
+  ContinuationOptions& c = sub.continuation;
+  c.lambda_start /= m;
+  c.lambda_end /= m;
+  c.lambda_min /= m;  // NaN stays NaN
+  c.lambda_max /= m;
+  c.lambda_scale /= m;
+  for (double& omega : sub.signals_at) omega /= m;
+  for (double& omega : sub.validation.omegas) omega /= m;
+  sub.validation.chirp.omega_start /= m;
+  sub.validation.chirp.omega_end /= m;
+  sub.title = base.title + " (period " + std::to_string(multiple) + ")";
+  sub.period_multiple = base.period_multiple * multiple;
+  return sub;
+}
+
+Eigen::VectorXd ToSubharmonic(const Eigen::VectorXd& y, const HarmonicSet& from,
+                              const HarmonicSet& to, int multiple) {
+  const int nc_from = from.NumCoefficients(), nc_to = to.NumCoefficients();
+  const std::vector<int> position = PositionOf(to);
+  const Eigen::Index blocks = y.size() / nc_from;
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(blocks * nc_to);
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    for (int p = 0; p < from.num_harmonics(); ++p) {
+      const int k = from.harmonics()[static_cast<size_t>(p)];
+      const int q = position[static_cast<size_t>(multiple * k)];
+      out(b * nc_to + to.CosIndex(q)) = y(b * nc_from + from.CosIndex(p));
+      if (k > 0) out(b * nc_to + to.SinIndex(q)) = y(b * nc_from + from.SinIndex(p));
+    }
+  }
+  return out;
+}
+
+double OddHarmonicContent(const Eigen::VectorXd& y, const HarmonicSet& set, int num_signals) {
+  const int nc = set.NumCoefficients();
+  double odd = 0.0, total = 0.0;
+  for (int b = 0; b < num_signals; ++b) {
+    const auto block = y.segment(b * nc, nc);
+    total += block.squaredNorm();
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      if (set.harmonics()[static_cast<size_t>(p)] % 2 == 0) continue;
+      odd += std::pow(block(set.CosIndex(p)), 2) + std::pow(block(set.SinIndex(p)), 2);
+    }
+  }
+  return total > 0.0 ? std::sqrt(odd / total) : 0.0;
+}
+
+SwitchedBranch FollowPeriodDoubling(const Case& base, const Bifurcation& period_doubling,
+                                    const TraceOptions& options) {
+  SwitchedBranch result;
+  result.the_case = SubharmonicCase(base, 2);
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(result.the_case);
+  const HarmonicSet& set = system->harmonic_set();
+  const double nu_pd = 0.5 * period_doubling.omega;
+  // Own unknowns that are samples cannot be re-expressed in other harmonics.
+  for (const auto& law : system->laws()) {
+    if (law->NumOwnUnknowns(set) > 0 && !law->OwnUnknownsAreCoefficients()) {
+      result.message = "a law's own unknowns are time samples: no period-2 start";
+      return result;
+    }
+  }
+  const Eigen::VectorXd y_pd = ToSubharmonic(period_doubling.y, base.harmonics, set, 2);
+  const std::optional<Eigen::VectorXd> phi = OddNullVector(*system, y_pd, nu_pd);
+  if (!phi) {
+    result.message = "no null vector of the period-2 Jacobian at the period doubling";
+    return result;
+  }
+  const int num_signals = system->num_displacement_unknowns() / set.NumCoefficients();
+  const double lo = base.continuation.LowerBound() / 2, hi = base.continuation.UpperBound() / 2;
+  for (const double side : {1.0, -1.0}) {
+    const double nu = nu_pd * (1.0 + side * kSideOffset);
+    if (nu <= lo || nu >= hi) continue;
+    for (const double amplitude : kAmplitudes) {
+      const Eigen::VectorXd guess = y_pd + amplitude * y_pd.norm() * *phi;
+      const FixedLambdaSolution solved =
+          SolveAtFixedLambda(*system, guess, nu, y_pd, result.the_case.continuation);
+      if (!solved.converged) continue;
+      const double content = OddHarmonicContent(solved.y, set, num_signals);
+      if (content < kMinimumContent) continue;
+      result.subharmonic_content = content;
+      result.start_omega = 2.0 * nu;
+      Case traced = result.the_case;
+      traced.continuation.lambda_start = nu;
+      traced.continuation.lambda_end = side > 0 ? hi : lo;
+      if (options.progress != nullptr) {
+        *options.progress << "nfrc: period-2 branch from the period doubling at omega = "
+                          << period_doubling.omega << ", starting at omega = " << 2.0 * nu
+                          << " (odd nu-harmonic content " << content << ")\n";
+      }
+      TraceOptions from = options;
+      from.start = &solved.y;
+      result.trace = TraceCase(traced, from);
+      result.the_case = traced;
+      result.started = true;
+      result.message = "started at omega = " + std::to_string(2.0 * nu);
+      return result;
+    }
+  }
+  result.message = "no period-2 solution beside the period doubling (tried both sides)";
+  return result;
+}
+
+}  // namespace nfrc
