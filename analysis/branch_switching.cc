@@ -15,6 +15,8 @@ constexpr double kAmplitudes[] = {0.05, 0.15, 0.4};
 // A solution with less odd-harmonic content than this has fallen back onto period 1.
 constexpr double kMinimumContent = 1e-4;
 constexpr int kInverseIterations = 6;
+// A solution this far (relative) from the first branch at the same ω is another branch.
+constexpr double kMinimumDistance = 1e-3;
 
 // Positions of a set's harmonics, by harmonic number (−1: not in the set).
 std::vector<int> PositionOf(const HarmonicSet& set) {
@@ -25,12 +27,24 @@ std::vector<int> PositionOf(const HarmonicSet& set) {
   return position;
 }
 
+// A unit near-null vector of the Jacobian at (y, λ) by inverse iteration from `start`.
+std::optional<Eigen::VectorXd> NearNullVector(HarmonicSystem& system, const Eigen::VectorXd& y,
+                                              double lambda, Eigen::VectorXd v) {
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  if (!system.Evaluate(y, lambda, &residual, &jacobian, nullptr)) return std::nullopt;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian);
+  for (int i = 0; i < kInverseIterations; ++i) {
+    v = lu.solve(v);
+    if (!v.allFinite() || v.norm() == 0.0) return std::nullopt;
+    v.normalize();
+  }
+  return v;
+}
+
 // A null vector of the period-2 system's Jacobian in the odd ν-harmonics at (y, ν).
 std::optional<Eigen::VectorXd> OddNullVector(HarmonicSystem& system, const Eigen::VectorXd& y,
                                              double nu) {
-  Eigen::VectorXd residual;
-  Eigen::MatrixXd jacobian;
-  if (!system.Evaluate(y, nu, &residual, &jacobian, nullptr)) return std::nullopt;
   const HarmonicSet& set = system.harmonic_set();
   const int nc = set.NumCoefficients();
   // Start from the odd harmonics only; the Jacobian keeps odd and even ν-harmonics apart on
@@ -43,13 +57,14 @@ std::optional<Eigen::VectorXd> OddNullVector(HarmonicSystem& system, const Eigen
       v(block + set.SinIndex(p)) = 0.5;
     }
   }
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian);
-  for (int i = 0; i < kInverseIterations; ++i) {
-    v = lu.solve(v);
-    if (!v.allFinite() || v.norm() == 0.0) return std::nullopt;
-    v.normalize();
-  }
-  return v;
+  return NearNullVector(system, y, nu, v);
+}
+
+// A deterministic start for inverse iteration with a component along every direction.
+Eigen::VectorXd SpreadVector(Eigen::Index size) {
+  Eigen::VectorXd v(size);
+  for (Eigen::Index i = 0; i < size; ++i) v(i) = 1.0 + 0.37 * std::sin(1.7 * static_cast<double>(i));
+  return v.normalized();
 }
 
 }  // namespace
@@ -90,6 +105,57 @@ Eigen::VectorXd ToSubharmonic(const Eigen::VectorXd& y, const HarmonicSet& from,
     }
   }
   return out;
+}
+
+SwitchedBranch FollowBranchPoint(const Case& base, const Bifurcation& branch_point,
+                                 const TraceOptions& options) {
+  SwitchedBranch result;
+  result.the_case = base;
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(base);
+  const Eigen::VectorXd& y_bp = branch_point.y;
+  const std::optional<Eigen::VectorXd> phi =
+      NearNullVector(*system, y_bp, branch_point.omega, SpreadVector(y_bp.size()));
+  if (!phi) {
+    result.message = "no null vector of the Jacobian at the branch point";
+    return result;
+  }
+  const double lo = base.continuation.LowerBound(), hi = base.continuation.UpperBound();
+  for (const double side : {1.0, -1.0}) {
+    const double omega = branch_point.omega * (1.0 + side * kSideOffset);
+    if (omega <= lo || omega >= hi) continue;
+    const FixedLambdaSolution primary =
+        SolveAtFixedLambda(*system, y_bp, omega, y_bp, base.continuation);
+    if (!primary.converged) continue;
+    for (const double amplitude : kAmplitudes) {
+      for (const double sign : {1.0, -1.0}) {
+        const Eigen::VectorXd guess = y_bp + sign * amplitude * y_bp.norm() * *phi;
+        const FixedLambdaSolution solved =
+            SolveAtFixedLambda(*system, guess, omega, y_bp, base.continuation);
+        if (!solved.converged) continue;
+        const double distance = (solved.y - primary.y).norm() / primary.y.norm();
+        if (distance < kMinimumDistance) continue;
+        result.subharmonic_content = distance;
+        result.start_omega = omega;
+        Case traced = base;
+        traced.continuation.lambda_start = omega;
+        traced.continuation.lambda_end = side > 0 ? hi : lo;
+        if (options.progress != nullptr) {
+          *options.progress << "nfrc: branch from the branch point at omega = "
+                            << branch_point.omega << ", starting at omega = " << omega
+                            << " (relative distance to the first branch " << distance << ")\n";
+        }
+        TraceOptions from = options;
+        from.start = &solved.y;
+        result.trace = TraceCase(traced, from);
+        result.the_case = traced;
+        result.started = true;
+        result.message = "started at omega = " + std::to_string(omega);
+        return result;
+      }
+    }
+  }
+  result.message = "no second solution beside the branch point (tried both sides)";
+  return result;
 }
 
 double OddHarmonicContent(const Eigen::VectorXd& y, const HarmonicSet& set, int num_signals) {

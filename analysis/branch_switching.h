@@ -39,6 +39,15 @@ struct SwitchedBranch {
 SwitchedBranch FollowPeriodDoubling(const Case& base, const Bifurcation& period_doubling,
                                     const TraceOptions& options = {});
 
+// The other branch through a branch point of `base` (a real multiplier through +1 without a
+// turning point, e.g. a symmetry-breaking pitchfork): the Jacobian's near-null vector φ at
+// the point (inverse iteration), then Newton at a fixed ω beside the point from y_bp + a·φ
+// for a few amplitudes and both sides; the first solution that differs from the one Newton
+// finds from y_bp itself (by more than 1e-3 relative) starts a trace away from the point.
+// subharmonic_content is then that relative difference.
+SwitchedBranch FollowBranchPoint(const Case& base, const Bifurcation& branch_point,
+                                 const TraceOptions& options = {});
+
 // ‖odd harmonics of a full set‖/‖y‖ over the DOF signals of y (the period-2 content).
 double OddHarmonicContent(const Eigen::VectorXd& y, const HarmonicSet& set, int num_signals);
 

@@ -16,17 +16,22 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
   options.observer = &writer;
   TraceResult result = TraceCase(the_case, options);
   writer.Finish(result.branch.summary);
-  // The period-2 branch of every period doubling, each in its own directory.
+  // The period-2 branch of every period doubling and the other branch of every branch point,
+  // each in its own directory.
   int number = 0;
   for (const Bifurcation& bifurcation : result.bifurcations) {
-    if (bifurcation.type != BifurcationType::kPeriodDoubling) continue;
+    const bool doubling = bifurcation.type == BifurcationType::kPeriodDoubling;
+    if (!doubling && bifurcation.type != BifurcationType::kBranchPoint) continue;
     if (stop != nullptr && stop->load()) break;
-    const std::string dir = out_dir + "/period2_" + std::to_string(++number);
-    const Case sub = SubharmonicCase(the_case, 2);
+    const std::string dir =
+        out_dir + (doubling ? "/period2_" : "/branch_point_") + std::to_string(++number);
+    const Case sub = doubling ? SubharmonicCase(the_case, 2) : the_case;
     BranchWriter sub_writer(dir, sub, source);
     TraceOptions sub_options = options;
     sub_options.observer = &sub_writer;
-    const SwitchedBranch switched = FollowPeriodDoubling(the_case, bifurcation, sub_options);
+    const SwitchedBranch switched = doubling
+                                        ? FollowPeriodDoubling(the_case, bifurcation, sub_options)
+                                        : FollowBranchPoint(the_case, bifurcation, sub_options);
     if (switched.started) {
       sub_writer.Finish(switched.trace.branch.summary);
     } else {
@@ -36,7 +41,8 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
       sub_writer.Finish(summary);
     }
     if (progress != nullptr) {
-      *progress << "nfrc: period-2 branch " << number << ": " << switched.message << ", wrote "
+      *progress << "nfrc: " << (doubling ? "period-2 branch " : "branch-point branch ") << number
+                << ": " << switched.message << ", wrote "
                 << dir << "/branch.json\n";
     }
   }

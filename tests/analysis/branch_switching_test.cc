@@ -71,3 +71,54 @@ TEST_CASE("branch switching: the period-2 branch of a period doubling") {
 
 }  // namespace
 }  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+// At a symmetric solution x1 = x2 of two identical coupled oscillators the Jacobian is
+// [[A, B], [B, A]]: A + B acts on in-phase perturbations, A − B on antisymmetric ones. A
+// symmetry-breaking pitchfork is where A − B is singular and A + B is not (a fold is the
+// reverse). Localised to 1e-6 in ω, σ_min(A − B)/σ_max is O(1e-6); 1e-4 separates it from
+// a regular matrix (σ_min/σ_max of A + B there is ~3e-3: both points lie near the fold at
+// ω ≈ 1.11, where A + B becomes singular).
+constexpr double kSingular = 1e-4;
+
+double RelativeSmallestSingularValue(const Eigen::MatrixXd& m) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(m);
+  return svd.singularValues().minCoeff() / svd.singularValues().maxCoeff();
+}
+
+TEST_CASE("branch switching: the other branch of a symmetry-breaking pitchfork") {
+  const Case base =
+      LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/coupled_duffing_pitchfork.json");
+  const TraceResult trace = TraceCase(base);
+  REQUIRE(trace.branch.summary.success());
+  std::vector<const Bifurcation*> points;
+  for (const Bifurcation& b : trace.bifurcations) {
+    if (b.type == BifurcationType::kBranchPoint) points.push_back(&b);
+  }
+  REQUIRE(points.size() == 2);
+  auto system = BuildSystem(base);
+  const int nc = base.harmonics.NumCoefficients();
+  for (const Bifurcation* b : points) {
+    CAPTURE(b->omega);
+    CHECK(b->converged);
+    REQUIRE(b->crossing_multipliers.size() == 1);
+    CHECK(std::abs(b->crossing_multipliers[0] - 1.0) < 1e-2);
+    Eigen::VectorXd residual;
+    Eigen::MatrixXd j;
+    REQUIRE(system->Evaluate(b->y, b->omega, &residual, &j, nullptr));
+    const Eigen::MatrixXd a = j.topLeftCorner(nc, nc), c = j.block(0, nc, nc, nc);
+    CHECK(RelativeSmallestSingularValue(a - c) < kSingular);
+    CHECK(RelativeSmallestSingularValue(a + c) > 10 * kSingular);
+  }
+  const SwitchedBranch other = FollowBranchPoint(base, *points[0]);
+  REQUIRE(other.started);
+  REQUIRE(other.trace.points.size() > 10);
+  // The new branch is asymmetric: x1 ≠ x2 (a localised response), unlike the first branch.
+  const Eigen::VectorXd& y = other.trace.points[10].point.y;
+  CHECK((y.head(nc) - y.segment(nc, nc)).norm() > 1e-2 * y.head(nc).norm());
+}
+
+}  // namespace
+}  // namespace nfrc
