@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "analysis/trace.h"
 #include "continuation/fixed_lambda.h"
 
 namespace nfrc {
@@ -146,6 +147,36 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
     }
   }
   return bifurcation;
+}
+
+std::vector<QuasiPeriodicWindow> QuasiPeriodicWindows(const std::vector<Bifurcation>& bifurcations,
+                                                      const std::vector<TracePoint>& points) {
+  std::vector<QuasiPeriodicWindow> windows;
+  std::optional<QuasiPeriodicWindow> open;
+  auto unstable = [&](int index) {
+    return index >= 0 && index < static_cast<int>(points.size())
+               ? points[static_cast<size_t>(index)].floquet.num_unstable
+               : 0;
+  };
+  for (const Bifurcation& b : bifurcations) {
+    if (b.type != BifurcationType::kNeimarkSacker) continue;
+    const bool opens = unstable(b.after_point + 1) > unstable(b.after_point);
+    if (opens && !open) {
+      open = QuasiPeriodicWindow{b.omega, b.omega, b.after_point + 1, b.after_point + 1, false};
+    } else if (!opens && open) {
+      open->omega_to = b.omega;
+      open->last_point = b.after_point;
+      open->closed = true;
+      windows.push_back(*open);
+      open.reset();
+    }
+  }
+  if (open && !points.empty()) {
+    open->omega_to = points.back().point.lambda;
+    open->last_point = static_cast<int>(points.size()) - 1;
+    windows.push_back(*open);
+  }
+  return windows;
 }
 
 }  // namespace nfrc

@@ -41,4 +41,11 @@ class StabilityMonitor {
   const ContinuationOptions& continuation_;
 };
 
+// The windows of a branch, from its Neimark–Sacker bifurcations in branch order: a window
+// opens at one after which the unstable count is higher and closes at the next one after
+// which it is lower again.
+struct TracePoint;
+std::vector<QuasiPeriodicWindow> QuasiPeriodicWindows(const std::vector<Bifurcation>& bifurcations,
+                                                      const std::vector<TracePoint>& points);
+
 }  // namespace nfrc

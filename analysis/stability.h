@@ -56,4 +56,15 @@ struct Bifurcation {
   std::vector<std::complex<double>> crossing_multipliers;
 };
 
+// An ω interval of a branch bounded by two Neimark–Sacker points where a complex pair of
+// multipliers is outside the unit circle: the periodic solution there gives way to a
+// quasi-periodic motion (a torus), which a transient shows as not periodic.
+struct QuasiPeriodicWindow {
+  double omega_from = 0.0;  // the Neimark–Sacker point where the pair leaves the circle
+  double omega_to = 0.0;    // the one where it comes back (or the branch's last point)
+  int first_point = 0;      // traced points inside the window, in branch order
+  int last_point = 0;
+  bool closed = true;       // false when the branch ends inside the window
+};
+
 }  // namespace nfrc

@@ -174,6 +174,7 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
       options.start != nullptr ? *options.start
                                : StartingGuess(the_case, *system, options.progress, options.stop);
   result.branch = Trace(*system, continuation, &recorder, &guess);
+  result.quasi_periodic_windows = QuasiPeriodicWindows(result.bifurcations, result.points);
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";
   }

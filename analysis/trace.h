@@ -80,6 +80,8 @@ struct TraceResult {
   std::vector<TracePoint> points;
   std::vector<TraceFold> folds;
   std::vector<Bifurcation> bifurcations;  // in branch order
+  // Between pairs of Neimark–Sacker points (QuasiPeriodicWindows in analysis/bifurcation.h).
+  std::vector<QuasiPeriodicWindow> quasi_periodic_windows;
   std::vector<SolutionSignals> signals;
   int num_unknowns = 0;
 };

@@ -237,6 +237,18 @@ void BranchWriter::OnSignals(const SolutionSignals& signals) {
   WriteJson();
 }
 
+void BranchWriter::SetWindows(const std::vector<QuasiPeriodicWindow>& windows) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const QuasiPeriodicWindow& w : windows) {
+    list.push_back({{"omega_from", omega_factor_ * w.omega_from},
+                    {"omega_to", omega_factor_ * w.omega_to},
+                    {"first_point", w.first_point},
+                    {"last_point", w.last_point},
+                    {"closed", w.closed}});
+  }
+  document_["quasi_periodic_windows"] = std::move(list);
+}
+
 void BranchWriter::OnFold(const TraceFold& record) {
   const Fold& fold = record.fold;
   const PointMeasures& m = record.measures;

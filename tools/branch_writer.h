@@ -32,6 +32,8 @@ class BranchWriter : public TraceObserver {
   void OnBifurcation(const Bifurcation& bifurcation) override;
   void OnSignals(const SolutionSignals& signals) override;
 
+  // The branch's quasi-periodic windows (written with the final branch.json).
+  void SetWindows(const std::vector<QuasiPeriodicWindow>& windows);
   // Writes the final branch.json with the summary.
   void Finish(const ContinuationSummary& summary);
 

@@ -15,6 +15,7 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
   options.stop = stop;
   options.observer = &writer;
   TraceResult result = TraceCase(the_case, options);
+  writer.SetWindows(result.quasi_periodic_windows);
   writer.Finish(result.branch.summary);
   // The period-2 branch of every period doubling and the other branch of every branch point,
   // each in its own directory.
@@ -33,6 +34,7 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
                                         ? FollowPeriodDoubling(the_case, bifurcation, sub_options)
                                         : FollowBranchPoint(the_case, bifurcation, sub_options);
     if (switched.started) {
+      sub_writer.SetWindows(switched.trace.quasi_periodic_windows);
       sub_writer.Finish(switched.trace.branch.summary);
     } else {
       ContinuationSummary summary;

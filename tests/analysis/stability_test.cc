@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "analysis/bifurcation.h"
 #include "analysis/trace.h"
 #include "analysis/validate.h"
 #include "tools/case_file.h"
@@ -92,6 +93,41 @@ TEST_CASE("stability: Hill's multipliers agree with transient monodromy on Duffi
     }
   }
   CHECK(compared == 5);  // one solution at 0.8 and 1.5, three inside the fold at 1.2
+}
+
+}  // namespace
+}  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+TEST_CASE("stability: quasi-periodic windows pair the Neimark-Sacker points") {
+  // Points 0..5; a complex pair leaves the circle after point 1 and returns after point 3.
+  std::vector<TracePoint> points(6);
+  for (int i = 0; i < 6; ++i) {
+    points[static_cast<size_t>(i)].index = i;
+    points[static_cast<size_t>(i)].point.lambda = 1.0 + 0.1 * i;
+    points[static_cast<size_t>(i)].floquet.computed = true;
+    points[static_cast<size_t>(i)].floquet.num_unstable = (i >= 2 && i <= 3) ? 2 : 0;
+  }
+  Bifurcation open, close;
+  open.type = close.type = BifurcationType::kNeimarkSacker;
+  open.after_point = 1;
+  open.omega = 1.15;
+  close.after_point = 3;
+  close.omega = 1.35;
+  const std::vector<QuasiPeriodicWindow> windows = QuasiPeriodicWindows({open, close}, points);
+  REQUIRE(windows.size() == 1);
+  CHECK(windows[0].omega_from == 1.15);
+  CHECK(windows[0].omega_to == 1.35);
+  CHECK(windows[0].first_point == 2);
+  CHECK(windows[0].last_point == 3);
+  CHECK(windows[0].closed);
+  // A branch that ends inside a window reports it open, up to its last point.
+  const std::vector<QuasiPeriodicWindow> open_only = QuasiPeriodicWindows({open}, points);
+  REQUIRE(open_only.size() == 1);
+  CHECK_FALSE(open_only[0].closed);
+  CHECK(open_only[0].omega_to == points.back().point.lambda);
 }
 
 }  // namespace
