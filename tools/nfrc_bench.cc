@@ -16,7 +16,11 @@
 //   7. transients to periodic steady state from rest (validation/): IDA on the friction
 //      oscillator at point E and on the rod against a flexible obstacle at ω0, the explicit
 //      Lagrange-multiplier scheme on the rod against a rigid one: integration time, periods,
-//      steps and events.
+//      steps and events;
+//   8. stability (Hill's method at every point, bifurcations localised): the whole trace
+//      (TraceCase, measures included) with stability off and on, and Hill's time per point
+//      against the trace's, for Duffing, the friction FRC at N_φ = 60 and 160 (the latter
+//      on its first 60 points), the rigid-obstacle rod and the rod against 4 k_rod.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -401,6 +405,32 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
 
 }  // namespace
 
+void BenchStability(const std::string& name, int max_harmonic, int max_points) {
+  nfrc::Case the_case = nfrc::LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
+  if (max_harmonic > 0) the_case.harmonics = nfrc::HarmonicSet(max_harmonic, true);
+  if (max_points > 0) the_case.continuation.max_points = max_points;
+  the_case.stability.enabled = false;
+  auto start = Clock::now();
+  const nfrc::TraceResult off = nfrc::TraceCase(the_case);
+  const double t_off = Seconds(start);
+  the_case.stability.enabled = true;
+  start = Clock::now();
+  const nfrc::TraceResult on = nfrc::TraceCase(the_case);
+  const double t_on = Seconds(start);
+  double hill = 0.0;
+  for (const nfrc::TracePoint& p : on.points) hill += p.floquet.seconds;
+  const double n = static_cast<double>(on.points.size());
+  std::printf("%s%s: %d points, %d unknowns, %zu bifurcations\n", name.c_str(),
+              max_harmonic > 0 ? (" H=" + std::to_string(max_harmonic)).c_str() : "",
+              static_cast<int>(on.points.size()), on.num_unknowns, on.bifurcations.size());
+  std::printf("  trace, stability off  %.1f ms = %.1f LU(320)\n", 1e3 * t_off, t_off / g_lu_unit);
+  std::printf("  trace, stability on   %.1f ms = %.1f LU(320)  (x%.2f)\n", 1e3 * t_on,
+              t_on / g_lu_unit, t_on / t_off);
+  std::printf("  per point: point %.3f ms = %.3f LU(320), Hill %.3f ms = %.3f LU(320) (x%.2f)\n",
+              1e3 * t_off / n, t_off / n / g_lu_unit, 1e3 * hill / n, hill / n / g_lu_unit,
+              hill / t_off);
+}
+
 // usage: nfrc_bench [SECTION ...] runs the numbered sections above (default: all).
 int main(int argc, char** argv) {
   std::vector<int> sections;
@@ -428,6 +458,13 @@ int main(int argc, char** argv) {
     BenchTransient("validation/friction_point_e.json", 0.308, 3);
     BenchTransient("validation/rod_flexible_4krod.json", 63954.0, 3);
     BenchTransient("validation/rod_rigid.json", 63954.0, 3);
+  }
+  if (run(8)) {
+    BenchStability("duffing.json", 0, 0);
+    BenchStability("friction/frc_n10.json", 0, 0);
+    BenchStability("friction/frc_n10.json", 159, 60);
+    BenchStability("rod/rigid_nh20.json", 0, 0);
+    BenchStability("rod/flexible_4krod.json", 0, 0);
   }
   return 0;
 }
