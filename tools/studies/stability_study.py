@@ -345,10 +345,21 @@ def first(value):
     return value[0] if isinstance(value, list) else value
 
 
-def stability_legend(axes, labelled, colour="0.3"):
-    """Legend proxies for the line styles; the markers' entries come from mark_bifurcations."""
+def stability_legend(axes, kinds, colour="0.3"):
+    """Legend proxies, in grey, for the line styles and the bifurcation types in `kinds` (the
+    markers themselves are drawn unlabelled, in their curve's colour)."""
     axes.plot([], [], "-", color=colour, label="stable (Hill)")
     axes.plot([], [], "--", color=colour, label="unstable (Hill)")
+    for kind, (marker, text) in BIFURCATION_STYLES.items():
+        if kind in kinds:
+            axes.plot([], [], marker, mfc="none", color=colour, ms=7, label=text)
+
+
+def marked(axes, document, value, colour, kinds):
+    """Bifurcation markers of a branch without legend entries; adds their types to kinds."""
+    bifurcations = document.get("bifurcations", [])
+    mark_bifurcations(axes, bifurcations, value, colour, set(BIFURCATION_STYLES))
+    kinds.update(b.get("type") for b in bifurcations)
 
 
 def figure7(out, figures):
@@ -362,8 +373,7 @@ def figure7(out, figures):
         unstable = stable.count(False)
         colour = draw_branch(axes, w, e, stable, color=LOAD_COLOURS[load_n], lw=1.1,
                              label=f"N = {load_n:g} ({unstable} unstable of {len(w)} points)")
-        mark_bifurcations(axes, document.get("bifurcations", []), lambda b: b.get("energy"),
-                          colour, labelled)
+        marked(axes, document, lambda b: b.get("energy"), colour, labelled)
     stability_legend(axes, labelled)
     axes.set_yscale("log")
     axes.set_xlim(0.1, 0.8)
@@ -387,8 +397,7 @@ def rod_axes(axes):
 def draw_rod(axes, document, colour, label, labelled):
     w, a, stable = column(document, "max_abs")
     colour = draw_branch(axes, w, a, stable, color=colour, lw=1.1, label=label)
-    mark_bifurcations(axes, document.get("bifurcations", []),
-                      lambda b: first(b.get("max_abs")), colour, labelled)
+    marked(axes, document, lambda b: first(b.get("max_abs")), colour, labelled)
 
 
 def figure17(out, figures):
@@ -461,8 +470,8 @@ def figure18(out, figures):
     full.legend(fontsize=7, loc="upper left")
     full.set_title("whole range", fontsize=9.5)
     zoom.set_xlim(6.35e4, 6.62e4)
-    zoom.set_ylim(1.8e-4, 2.6e-4)
-    zoom.legend(fontsize=6.5, loc="lower right", ncol=2)
+    zoom.set_ylim(1.9e-4, 2.25e-4)
+    zoom.legend(fontsize=6.5, loc="upper left", ncol=2)
     zoom.set_title("zoom on the unstable part", fontsize=9.5)
     figure.suptitle("FE rod against a rigid obstacle, $N_h$ = 20, $N_t$ = 400, with Hill's "
                     "stability (cf. Vadcard et al. 2022, Fig. 18)", fontsize=10.5)
