@@ -75,7 +75,8 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
     return std::nullopt;
   }
   // The multiplier that crossed: the least unstable one on the more unstable side.
-  const FloquetResult& more = floquet_b.num_unstable > floquet_a.num_unstable ? floquet_b : floquet_a;
+  const FloquetResult& more =
+      floquet_b.num_unstable > floquet_a.num_unstable ? floquet_b : floquet_a;
   std::optional<Complex> crossed;
   for (const Complex& mu : more.multipliers) {
     if (std::abs(mu) > 1.0 + options_.unstable_tolerance &&

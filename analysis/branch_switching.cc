@@ -63,7 +63,8 @@ std::optional<Eigen::VectorXd> OddNullVector(HarmonicSystem& system, const Eigen
 // A deterministic start for inverse iteration with a component along every direction.
 Eigen::VectorXd SpreadVector(Eigen::Index size) {
   Eigen::VectorXd v(size);
-  for (Eigen::Index i = 0; i < size; ++i) v(i) = 1.0 + 0.37 * std::sin(1.7 * static_cast<double>(i));
+  for (Eigen::Index i = 0; i < size; ++i)
+    v(i) = 1.0 + 0.37 * std::sin(1.7 * static_cast<double>(i));
   return v.normalized();
 }
 

@@ -29,9 +29,9 @@ Eigen::VectorXd ToSubharmonic(const Eigen::VectorXd& y, const HarmonicSet& from,
 // away from the point to the end of the base case's range.
 struct SwitchedBranch {
   bool started = false;
-  std::string message;      // how it started, or why it did not
-  Case the_case;            // the period-2 case (continuation parameter ν = ω/2)
-  TraceResult trace;        // its branch (λ = ν); empty when not started
+  std::string message;       // how it started, or why it did not
+  Case the_case;             // the period-2 case (continuation parameter ν = ω/2)
+  TraceResult trace;         // its branch (λ = ν); empty when not started
   double start_omega = 0.0;  // ω (base units) of the first period-2 point
   // ‖odd ν-harmonics‖/‖y‖ of the first point: how far it is from the period-1 branch.
   double subharmonic_content = 0.0;

@@ -1,8 +1,8 @@
 #include "analysis/hill.h"
 
-#include <Eigen/SparseLU>
 #include <Spectra/GenEigsRealShiftSolver.h>
 
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -31,6 +31,9 @@ constexpr double kSameExponent = 1e-3;
 // A copy whose eigenvector has more than this share of its weight in the top quarter of the
 // harmonics is shaped by the truncation, not by the dynamics: it is not used.
 constexpr double kEdgeLimit = 0.25;
+// With a few harmonics every one is "top quarter": harmonics up to this one never count as
+// the edge (H = 1 would otherwise drop every copy).
+constexpr int kSmallestEdgeHarmonic = 2;
 
 // Adds scale·(A ⊗ B) in the DOF-major layout: entry (i·nc + r, j·nc + c) = scale·A_ij·B_rc.
 void AddKronecker(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b, double scale,
@@ -42,7 +45,8 @@ void AddKronecker(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b
         for (int c = 0; c < nc; ++c) {
           if (b(r, c) != 0.0) {
             triplets->emplace_back(static_cast<int>(it.row()) * nc + r,
-                                   static_cast<int>(it.col()) * nc + c, scale * it.value() * b(r, c));
+                                   static_cast<int>(it.col()) * nc + c,
+                                   scale * it.value() * b(r, c));
           }
         }
       }
@@ -189,7 +193,8 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
   HillPencil pencil;
   pencil.set = set;
   pencil.omega = omega;
-  for (auto [matrix, triplets] : {std::pair{&pencil.d0, &t0}, {&pencil.d1, &t1}, {&pencil.d2, &t2}}) {
+  for (auto [matrix, triplets] :
+       {std::pair{&pencil.d0, &t0}, {&pencil.d1, &t1}, {&pencil.d2, &t2}}) {
     matrix->resize(size, size);
     matrix->setFromTriplets(triplets->begin(), triplets->end());
   }
@@ -239,7 +244,8 @@ class ShiftInvertOperator {
     const Eigen::VectorXd rhs = pencil_.d1 * q + pencil_.d2 * w_full;
     Eigen::Map<Eigen::VectorXd> out_q(y_out, n_), out_w(y_out + n_, nd);
     out_q = -lu_.solve(rhs);
-    for (int i = 0; i < nd; ++i) out_w(i) = r1(i) + sigma_ * out_q(pencil_.dynamic[static_cast<size_t>(i)]);
+    for (int i = 0; i < nd; ++i)
+      out_w(i) = r1(i) + sigma_ * out_q(pencil_.dynamic[static_cast<size_t>(i)]);
   }
 
  private:
@@ -252,8 +258,7 @@ class ShiftInvertOperator {
 
 // The harmonic centroid k̄ of an eigenvector's DOF signals, their share of its norm and the
 // share of their weight in harmonics above ¾H.
-double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* weight,
-                double* edge) {
+double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* weight, double* edge) {
   const HarmonicSet& set = pencil.set;
   const double edge_harmonic = 0.75 * set.max_harmonic();
   double moment = 0.0, total = 0.0, high = 0.0;
@@ -270,7 +275,7 @@ double Centroid(const Eigen::VectorXcd& q, const HillPencil& pencil, double* wei
       const double minus = std::norm(0.5 * (a + Complex(0, 1) * b));
       moment += k * (plus - minus);
       total += plus + minus;
-      if (k > edge_harmonic) high += plus + minus;
+      if (k > edge_harmonic && k > kSmallestEdgeHarmonic) high += plus + minus;
     }
   }
   *weight = total / std::max(q.squaredNorm(), 1e-300);
@@ -308,9 +313,8 @@ void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
     if (copy) continue;
     accepted.emplace_back(std::exp(c.exponent * period), folded);
   }
-  std::sort(accepted.begin(), accepted.end(), [](const auto& a, const auto& b) {
-    return std::abs(a.first) > std::abs(b.first);
-  });
+  std::sort(accepted.begin(), accepted.end(),
+            [](const auto& a, const auto& b) { return std::abs(a.first) > std::abs(b.first); });
   for (const auto& [mu, exponent] : accepted) {
     result->multipliers.push_back(mu);
     result->exponents.push_back(exponent);
@@ -389,8 +393,7 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
     AddCandidates(nu, eigs.eigenvectors(), sigma, pencil, &candidates);
   }
   SelectPhysical(std::move(candidates), pencil, options, &result);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -52,8 +52,8 @@ struct HillOptions {
 // far from σ (a stiff mode, Im s ≈ ω_m) is still represented by a copy near the axis.
 // Copies with most of their weight in the top quarter of the harmonics are truncation
 // artefacts and are not used, and at most state_dimension families are kept (the most
-// central ones: beyond them come the copies that truncation has shifted off their family). Dense solve up to dense_limit, else Arnoldi (Spectra) for the
-// 2·state + 6 eigenvalues nearest σ.
+// central ones: beyond them come the copies that truncation has shifted off their family). Dense
+// solve up to dense_limit, else Arnoldi (Spectra) for the 2·state + 6 eigenvalues nearest σ.
 FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options);
 
 }  // namespace nfrc

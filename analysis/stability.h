@@ -27,8 +27,8 @@ struct StabilityOptions {
 // Floquet exponents and multipliers of one periodic solution.
 struct FloquetResult {
   bool computed = false;
-  std::string message;   // why not computed, or what was approximated
-  std::string method;    // "hill" or "monodromy"
+  std::string message;  // why not computed, or what was approximated
+  std::string method;   // "hill" or "monodromy"
   // The physical exponents s (1/time unit), one per family s + ikω of Hill's spectrum,
   // and the multipliers μ = exp(sT), T = 2π/ω, both sorted by decreasing |μ|.
   std::vector<std::complex<double>> exponents;
@@ -36,7 +36,7 @@ struct FloquetResult {
   double max_modulus = 0.0;  // largest |μ|
   int num_unstable = 0;      // multipliers with |μ| > 1 + unstable_tolerance
   bool stable() const { return computed && num_unstable == 0; }
-  double seconds = 0.0;      // wall time of the analysis
+  double seconds = 0.0;  // wall time of the analysis
 };
 
 enum class BifurcationType { kFold, kBranchPoint, kPeriodDoubling, kNeimarkSacker };
@@ -49,8 +49,8 @@ struct Bifurcation {
   double omega_accuracy = 0.0;  // |ω error| bound reached by the localisation
   bool converged = false;       // accuracy reached within max_bifurcation_iterations
   int iterations = 0;
-  int after_point = 0;          // index of the traced point preceding it
-  Eigen::VectorXd y;            // the solution there (the HarmonicSystem's unknowns)
+  int after_point = 0;  // index of the traced point preceding it
+  Eigen::VectorXd y;    // the solution there (the HarmonicSystem's unknowns)
   PointMeasures measures;
   // The multipliers that cross the unit circle there (one real, or a complex pair).
   std::vector<std::complex<double>> crossing_multipliers;
@@ -64,7 +64,7 @@ struct QuasiPeriodicWindow {
   double omega_to = 0.0;    // the one where it comes back (or the branch's last point)
   int first_point = 0;      // traced points inside the window, in branch order
   int last_point = 0;
-  bool closed = true;       // false when the branch ends inside the window
+  bool closed = true;  // false when the branch ends inside the window
 };
 
 }  // namespace nfrc

@@ -81,7 +81,8 @@ class TraceRecorder : public ContinuationObserver {
                          << " (+/- " << m * found->omega_accuracy << ")\n";
     }
     result_->bifurcations.push_back(std::move(*found));
-    if (options_.observer != nullptr) options_.observer->OnBifurcation(result_->bifurcations.back());
+    if (options_.observer != nullptr)
+      options_.observer->OnBifurcation(result_->bifurcations.back());
   }
 
   const Case& case_;

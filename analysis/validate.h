@@ -58,7 +58,8 @@ struct SolutionStability {
   FloquetResult hill;
   // Both computed: the largest distance from a Hill multiplier with |μ| ≥ kCompared to the
   // nearest transient multiplier (the multipliers that decide stability; the smaller ones
-  // are strongly damped and the HBM truncation dominates them), and |max|μ|_Hill − max|μ|_transient|.
+  // are strongly damped and the HBM truncation dominates them), and |max|μ|_Hill −
+  // max|μ|_transient|.
   static constexpr double kCompared = 0.05;
   std::optional<double> multiplier_difference;
   std::optional<double> max_modulus_difference;
@@ -66,9 +67,9 @@ struct SolutionStability {
 
 // Everything validated at one requested ω.
 struct ValidationPoint {
-  double omega = 0.0;                       // rad per time unit
-  std::vector<CrossingSolution> solutions;  // the converged HBM crossings
-  std::vector<TransientRun> transients;     // one per solution (start hbm) or one from rest
+  double omega = 0.0;                        // rad per time unit
+  std::vector<CrossingSolution> solutions;   // the converged HBM crossings
+  std::vector<TransientRun> transients;      // one per solution (start hbm) or one from rest
   std::vector<SolutionStability> stability;  // one per solution
   // The transient that stands for this ω (the first that stayed where it started, else the
   // first), −1 if none ran; its comparison's solution is the one that stands for the HBM.

@@ -83,7 +83,6 @@ nlohmann::json FloquetToJson(const FloquetResult& floquet) {
           {"multipliers", ComplexListToJson(floquet.multipliers)}};
 }
 
-// `factor`: the case's period multiple (λ = ω/m).
 nlohmann::json BifurcationToJson(const Bifurcation& bifurcation, double factor) {
   const PointMeasures& m = bifurcation.measures;
   return {{"type", ToString(bifurcation.type)},
@@ -202,8 +201,9 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
   }
   document_["points"].push_back(std::move(entry));
   const PointMeasures& m = record.measures.response;
-  csv_ << record.index << ',' << omega_factor_ * point.lambda << ',' << point.step << ',' << point.newton_iterations
-       << ',' << point.residual_norm << ',' << point.tangent_lambda << ',' << m.energy;
+  csv_ << record.index << ',' << omega_factor_ * point.lambda << ',' << point.step << ','
+       << point.newton_iterations << ',' << point.residual_norm << ',' << point.tangent_lambda
+       << ',' << m.energy;
   for (double v : m.max_abs) csv_ << ',' << v;
   for (double v : m.h1) csv_ << ',' << v;
   WriteStabilityColumns(csv_, record.floquet);

@@ -65,8 +65,9 @@ nlohmann::json ComplexListToJson(const std::vector<std::complex<double>>& values
 nlohmann::json FloquetToJson(const FloquetResult& floquet);
 
 // A "bifurcations" entry: type, omega, omega_accuracy, converged, iterations, after_point,
-// crossing_multipliers and the response measures as folds record them.
-nlohmann::json BifurcationToJson(const Bifurcation& bifurcation);
+// crossing_multipliers and the response measures as folds record them; ω times `factor`, the
+// case's period multiple (its λ is ω/m).
+nlohmann::json BifurcationToJson(const Bifurcation& bifurcation, double factor = 1.0);
 
 // nlohmann::json summary of a continuation run.
 nlohmann::json SummaryToJson(const ContinuationSummary& summary);

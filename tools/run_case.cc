@@ -44,8 +44,7 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
     }
     if (progress != nullptr) {
       *progress << "nfrc: " << (doubling ? "period-2 branch " : "branch-point branch ") << number
-                << ": " << switched.message << ", wrote "
-                << dir << "/branch.json\n";
+                << ": " << switched.message << ", wrote " << dir << "/branch.json\n";
     }
   }
   return std::move(result.branch);

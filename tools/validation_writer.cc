@@ -1,7 +1,7 @@
 #include "tools/validation_writer.h"
 
-#include <filesystem>
 #include <complex>
+#include <filesystem>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
@@ -76,7 +76,8 @@ nlohmann::json TransientJson(const TransientRun& run, const std::string& signals
 // The transient monodromy of one HBM solution: multipliers as [re, im], by decreasing |μ|.
 nlohmann::json MonodromyJson(const MonodromyResult& m) {
   nlohmann::json multipliers = nlohmann::json::array();
-  for (const std::complex<double>& mu : m.multipliers) multipliers.push_back({mu.real(), mu.imag()});
+  for (const std::complex<double>& mu : m.multipliers)
+    multipliers.push_back({mu.real(), mu.imag()});
   return {{"ok", m.ok},
           {"message", m.message},
           {"multipliers", std::move(multipliers)},
@@ -90,7 +91,8 @@ nlohmann::json MonodromyJson(const MonodromyResult& m) {
 nlohmann::json HillJson(const SolutionStability& stability) {
   const FloquetResult& hill = stability.hill;
   nlohmann::json multipliers = nlohmann::json::array();
-  for (const std::complex<double>& mu : hill.multipliers) multipliers.push_back({mu.real(), mu.imag()});
+  for (const std::complex<double>& mu : hill.multipliers)
+    multipliers.push_back({mu.real(), mu.imag()});
   nlohmann::json j = {{"multipliers", std::move(multipliers)},
                       {"max_modulus", hill.max_modulus},
                       {"unstable", hill.num_unstable},

@@ -67,8 +67,7 @@ void MonodromyOptions::Validate() const {
 
 MonodromyResult ComputeMonodromy(TransientIntegrator& integrator, const TransientModel& model,
                                  double omega, const InitialState& on_orbit,
-                                 const MonodromyOptions& options,
-                                 const std::atomic<bool>* stop) {
+                                 const MonodromyOptions& options, const std::atomic<bool>* stop) {
   options.Validate();
   if (!(omega > 0.0) || !std::isfinite(omega)) {
     throw InputError("validation.omega: must be finite and > 0");

@@ -85,8 +85,8 @@ TEST_CASE("validate: Duffing transients match the HBM branch and the middle solu
       const std::string& label = point->solutions[i].label;
       MESSAGE("omega " << point->omega << ", " << label << ": mu " << m.multipliers[0] << ", "
                        << m.multipliers[1] << ", det/exp(-cT) "
-                       << std::abs(m.multipliers[0] * m.multipliers[1]) / liouville
-                       << ", closure " << m.closure);
+                       << std::abs(m.multipliers[0] * m.multipliers[1]) / liouville << ", closure "
+                       << m.closure);
       CHECK(std::abs(m.multipliers[0] * m.multipliers[1] - liouville) <
             kLiouvilleAgreement * liouville);
       CHECK(m.closure < kDuffingAgreement);

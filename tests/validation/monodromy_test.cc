@@ -171,8 +171,8 @@ TEST_CASE("Monodromy: Duffing det Φ equals exp(−cT) and the step does not mat
       options.relative_step = step;
       const MonodromyResult other = ComputeMonodromy(ida, model, omega, z0, options);
       REQUIRE(other.ok);
-      const double change = (other.matrix - r.matrix).cwiseAbs().maxCoeff() /
-                            r.matrix.cwiseAbs().maxCoeff();
+      const double change =
+          (other.matrix - r.matrix).cwiseAbs().maxCoeff() / r.matrix.cwiseAbs().maxCoeff();
       MESSAGE("  relative_step " << step << ": Φ changes by " << change);
       CHECK(change < kLiouvilleTolerance);
     }
@@ -260,8 +260,8 @@ TEST_CASE("Monodromy: central differences with a sticking rigid stop forget the 
   const double omega = 0.5;
   const MonodromyResult r = ComputeMonodromy(integrator, model, omega, OnOrbit(integrator, omega));
   REQUIRE_MESSAGE(r.ok, r.message);
-  MESSAGE("rigid stop ω = 0.5: μ = " << r.multipliers[0] << ", " << r.multipliers[1]
-                                     << ", closure " << r.closure);
+  MESSAGE("rigid stop ω = 0.5: μ = " << r.multipliers[0] << ", " << r.multipliers[1] << ", closure "
+                                     << r.closure);
   CHECK(r.matrix.allFinite());
   CHECK(r.matrix.cwiseAbs().maxCoeff() == 0.0);
   CHECK(r.max_modulus() == 0.0);
