@@ -382,7 +382,8 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
     const int ncv = std::min(size, nev + std::max(20, nev / 2));
     Spectra::GenEigsRealShiftSolver<ShiftInvertOperator> eigs(*op, nev, ncv, sigma);
     eigs.init();
-    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    // Ritz values to 1e-8 relative: exponents two orders below unstable_tolerance's 1e-6.
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-8);
     if (eigs.info() != Spectra::CompInfo::Successful) {
       result.message = "Arnoldi did not converge";
       return result;
