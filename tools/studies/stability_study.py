@@ -4,6 +4,7 @@ monodromy) with nfrc and writes docs/stability_results.md and docs/figures/stabi
 
 usage: stability_study.py [--nfrc PATH] [--out DIR] [--force] [--jobs N]
                           [--figures DIR] [--markdown PATH] [--skip-validation]
+                          [--only NAME[,NAME...]] [--complete]
 
 1. Traces every case of TRACES twice with `nfrc run`: as it is (Hill's stability at every
    point, bifurcations located) into OUT/NAME, and with "stability": {"enabled": false} (a copy
@@ -11,6 +12,10 @@ usage: stability_study.py [--nfrc PATH] [--out DIR] [--force] [--jobs N]
 2. Runs `nfrc validate --no-chirp --no-plot` on the cases of VALIDATIONS (copies written to
    OUT/cases/ with the frequencies and transient limits listed here) into OUT/val_NAME: at each
    frequency, every HBM solution gets Hill's multipliers and the transient monodromy.
+   With --complete, a validation that exists but lacks some of its frequencies (not reached,
+   or a solution without a monodromy) is completed by another `nfrc validate` on those
+   frequencies only, with the short rod transients, into OUT/val_NAME_moreK; the tables merge
+   the parts by ω (a later part replaces an earlier point). --only restricts the validations.
 3. Draws the friction Fig. 7 and rod Fig. 17/18 analogues with stable segments solid and
    unstable ones dashed, and writes the tables.
 
@@ -86,9 +91,9 @@ VALIDATIONS = [
     ("val_rod_4krod", "rod_4krod", "cases/rod/flexible_4krod.json", ROD_TRANSIENT, None,
      [65800, 66100, 66400, 66700], None, ""),
     ("val_rod_0_4krod", "rod_0_4krod", "cases/rod/flexible_0_4krod.json", ROD_TRANSIENT_SHORT, None,
-     [65300, 66000], None, FEWER),
+     [65300, 66000, 61000, 65450, 66100, 68000], None, FEWER),
     ("val_rod_40krod", "rod_40krod", "cases/rod/flexible_40krod.json", ROD_TRANSIENT_SHORT, None,
-     [65150, 65300, 65500], None, FEWER),
+     [65150, 65300, 65500, 61000, 64000, 68000], None, FEWER),
     ("val_rod_rigid", "rod_rigid", "cases/rod/rigid_nh20.json", ROD_TRANSIENT_SHORT, None,
      [64500, 65200], None, FEWER),
     ("val_frc_n8", "frc_n8", "cases/friction/frc_n8.json", FRICTION_TRANSIENT, FRICTION_OMEGAS,
@@ -105,6 +110,7 @@ VALIDATIONS = [
      FRICTION_TRANSIENT, [0.12, 0.2, 0.3, 0.35, 0.4, 0.45, 0.5, 0.6, 0.7, 0.78], [], wide_damper,
      "continuation widened to 0.1–0.8 in the copy (the case itself spans 0.4–0.401)"),
 ]
+COMPLETION_TRANSIENT = ROD_TRANSIENT_SHORT  # the transients of a --complete part
 MONODROMY_STABLE = 1e-4  # transient verdict: stable when max|μ| ≤ 1 + this (finite differences)
 
 # ----------------------------------------------------------------------------- runs
@@ -208,18 +214,69 @@ def validation_omegas(out, entry):
     return choose_omegas(document, extra, even) if document else list(extra)
 
 
+def parts(out, name):
+    """The run directories of a validation: NAME, then its --complete parts NAME_more1, ..."""
+    names, k = [name], 1
+    while os.path.isdir(os.path.join(out, f"{name}_more{k}")):
+        names.append(f"{name}_more{k}")
+        k += 1
+    return names
+
+
+def complete_point(point):
+    solutions = point.get("hbm_solutions", [])
+    return bool(solutions) and all(
+        s.get("monodromy", {}).get("ok") and s.get("monodromy", {}).get("max_modulus")
+        is not None and s.get("hill", {}).get("max_modulus") is not None for s in solutions)
+
+
+def merged_validation(out, name):
+    """validation.json of NAME with the points of its --complete parts merged by ω (a later
+    part replaces an earlier point with the same ω, unless that one is complete and the later
+    one is not); None if NAME has none."""
+    document = load(out, name, "validation.json")
+    if document is None:
+        return None
+    points = {p["omega"]: p for p in document.get("points", [])}
+    for part in parts(out, name)[1:]:
+        more = load(out, part, "validation.json")
+        for point in (more or {}).get("points", []):
+            old = points.get(point["omega"])
+            if old is None or complete_point(point) or not complete_point(old):
+                points[point["omega"]] = point
+    document = dict(document)
+    document["points"] = [points[w] for w in sorted(points)]
+    return document
+
+
+def incomplete_omegas(out, name, requested):
+    document = merged_validation(out, name) or {}
+    done = {p["omega"]: p for p in document.get("points", [])}
+    return [w for w in requested
+            if not any(abs(w - d) <= 1e-9 * abs(w) and complete_point(p)
+                       for d, p in done.items())]
+
+
 def run_validation(args, entry):
     name, _, source, transient, _, _, change, _ = entry
-    if not args.force and load(args.out, name, "validation.json") is not None:
-        return name, "kept", 0.0
+    part = name
     omegas = validation_omegas(args.out, entry)
+    if not args.force and load(args.out, name, "validation.json") is not None:
+        if not args.complete:
+            return name, "kept", 0.0
+        omegas = incomplete_omegas(args.out, name, omegas)
+        if not omegas:
+            return name, "complete, kept", 0.0
+        part = f"{name}_more{len(parts(args.out, name))}"
+        transient = COMPLETION_TRANSIENT
 
     def edit(document):
         if change:
             change(document)
         document["validation"] = {"omega": omegas, "transient": dict(transient)}
 
-    case = write_case(args.out, name, source, edit)
+    case = write_case(args.out, part, source, edit)
+    name = part
     directory = os.path.join(args.out, name)
     code, seconds = execute([args.nfrc, "validate", case, "--out", directory, "--no-chirp",
                              "--no-plot"], directory)
@@ -229,9 +286,12 @@ def run_validation(args, entry):
 
 
 def run_validations(args):
-    for entry in VALIDATIONS:
-        name, status, seconds = run_validation(args, entry)
-        print(f"stability_study: {name:28s} {status}  {seconds:7.1f} s", flush=True)
+    entries = [e for e in VALIDATIONS if not args.only or e[0] in args.only]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        futures = [pool.submit(run_validation, args, e) for e in entries]
+        for future in concurrent.futures.as_completed(futures):
+            name, status, seconds = future.result()
+            print(f"stability_study: {name:28s} {status}  {seconds:7.1f} s", flush=True)
 
 
 def requested_omegas(out, name):
@@ -609,6 +669,12 @@ def parse_arguments():
     parser.add_argument("--markdown", default=os.path.join(REPO, "docs", "stability_results.md"))
     parser.add_argument("--skip-validation", action="store_true",
                         help="no nfrc validate runs (tables from existing ones only)")
+    parser.add_argument("--only", type=lambda text: text.split(","), default=None,
+                        help="run only these validations (comma-separated run names, e.g. "
+                        "val_rod_4krod); the tables still cover all")
+    parser.add_argument("--complete", action="store_true",
+                        help="complete existing validations: rerun only their missing or "
+                        "incomplete frequencies (short transients) into OUT/NAME_moreK")
     args = parser.parse_args()
     if not os.access(args.nfrc, os.X_OK):
         sys.exit(f"stability_study: {args.nfrc} is not an executable (build nfrc, or --nfrc)")
@@ -636,7 +702,8 @@ def main():
     elapsed = time.monotonic() - started
     trace_total = sum(printed_time(args.out, n + suffix) or 0.0 for n, _, _ in TRACES
                       for suffix in ("", "_nostab"))
-    validation_total = sum(validation_seconds(args.out, e[0]) or 0.0 for e in VALIDATIONS)
+    validation_total = sum(validation_seconds(args.out, part) or 0.0 for e in VALIDATIONS
+                           for part in parts(args.out, e[0]))
     lines = ["# Stability results: Hill's method along the branch, checked against the "
              "transient monodromy", "",
              "Generated by `tools/studies/stability_study.py`. Every case is traced with "
@@ -700,18 +767,27 @@ def main():
     summary_rows = []
     for entry in VALIDATIONS:
         name, trace, source, transient, _, _, change, note = entry
-        document = load(args.out, name, "validation.json")
+        document = merged_validation(args.out, name)
         title = next(t for n, _, t in TRACES if n == trace)
         lines += [f"### {title} (`{source}`)", ""]
         limits = ", ".join(f"{k} = {v}" for k, v in transient.items())
         seconds = validation_seconds(args.out, name)
         lines += [f"`nfrc validate` on a copy with the frequencies below, transient {limits}"
                   + (f"; {note}" if note else "") + f"; wall time {fmt(seconds, 3)} s.", ""]
+        for part in parts(args.out, name)[1:]:
+            limits = ", ".join(f"{k} = {v}" for k, v in COMPLETION_TRANSIENT.items())
+            lines += [f"Completed (`--complete`, into `{part}`) at "
+                      f"{', '.join(fmt(w, 6) for w in requested_omegas(args.out, part))}, the "
+                      f"frequencies the first run had not reached or had left without a "
+                      f"monodromy, with transient {limits}; wall time "
+                      f"{fmt(validation_seconds(args.out, part), 3)} s. Those rows come from "
+                      "this run.", ""]
         if document is None:
             lines += ["Not run (no validation.json).", ""]
             continue
         rows, records = hill_rows(document)
-        requested = requested_omegas(args.out, name)
+        requested = sorted(set(requested_omegas(args.out, name)) |
+                           set(validation_omegas(args.out, entry)))
         done = [p["omega"] for p in document.get("points", [])]
         missing = [w for w in requested if all(abs(w - d) > 1e-9 * abs(w) for d in done)]
         lines += [f"Frequencies requested: {', '.join(fmt(w, 6) for w in requested)}."
