@@ -4,6 +4,7 @@ monodromy) with nfrc and writes docs/stability_results.md and docs/figures/stabi
 
 usage: stability_study.py [--nfrc PATH] [--out DIR] [--force] [--jobs N]
                           [--figures DIR] [--markdown PATH] [--skip-validation]
+                          [--only NAME[,NAME...]] [--complete]
 
 1. Traces every case of TRACES twice with `nfrc run`: as it is (Hill's stability at every
    point, bifurcations located) into OUT/NAME, and with "stability": {"enabled": false} (a copy
@@ -11,6 +12,10 @@ usage: stability_study.py [--nfrc PATH] [--out DIR] [--force] [--jobs N]
 2. Runs `nfrc validate --no-chirp --no-plot` on the cases of VALIDATIONS (copies written to
    OUT/cases/ with the frequencies and transient limits listed here) into OUT/val_NAME: at each
    frequency, every HBM solution gets Hill's multipliers and the transient monodromy.
+   With --complete, a validation that exists but lacks some of its frequencies (not reached,
+   or a solution without a monodromy) is completed by another `nfrc validate` on those
+   frequencies only, with the short rod transients, into OUT/val_NAME_moreK; the tables merge
+   the parts by ω (a later part replaces an earlier point). --only restricts the validations.
 3. Draws the friction Fig. 7 and rod Fig. 17/18 analogues with stable segments solid and
    unstable ones dashed, and writes the tables.
 
@@ -86,9 +91,9 @@ VALIDATIONS = [
     ("val_rod_4krod", "rod_4krod", "cases/rod/flexible_4krod.json", ROD_TRANSIENT, None,
      [65800, 66100, 66400, 66700], None, ""),
     ("val_rod_0_4krod", "rod_0_4krod", "cases/rod/flexible_0_4krod.json", ROD_TRANSIENT_SHORT, None,
-     [65300, 66000], None, FEWER),
+     [65300, 66000, 61000, 65450, 66100, 68000], None, FEWER),
     ("val_rod_40krod", "rod_40krod", "cases/rod/flexible_40krod.json", ROD_TRANSIENT_SHORT, None,
-     [65150, 65300, 65500], None, FEWER),
+     [65150, 65300, 65500, 61000, 64000, 68000], None, FEWER),
     ("val_rod_rigid", "rod_rigid", "cases/rod/rigid_nh20.json", ROD_TRANSIENT_SHORT, None,
      [64500, 65200], None, FEWER),
     ("val_frc_n8", "frc_n8", "cases/friction/frc_n8.json", FRICTION_TRANSIENT, FRICTION_OMEGAS,
@@ -105,6 +110,7 @@ VALIDATIONS = [
      FRICTION_TRANSIENT, [0.12, 0.2, 0.3, 0.35, 0.4, 0.45, 0.5, 0.6, 0.7, 0.78], [], wide_damper,
      "continuation widened to 0.1–0.8 in the copy (the case itself spans 0.4–0.401)"),
 ]
+COMPLETION_TRANSIENT = ROD_TRANSIENT_SHORT  # the transients of a --complete part
 MONODROMY_STABLE = 1e-4  # transient verdict: stable when max|μ| ≤ 1 + this (finite differences)
 
 # ----------------------------------------------------------------------------- runs
@@ -208,18 +214,69 @@ def validation_omegas(out, entry):
     return choose_omegas(document, extra, even) if document else list(extra)
 
 
+def parts(out, name):
+    """The run directories of a validation: NAME, then its --complete parts NAME_more1, ..."""
+    names, k = [name], 1
+    while os.path.isdir(os.path.join(out, f"{name}_more{k}")):
+        names.append(f"{name}_more{k}")
+        k += 1
+    return names
+
+
+def complete_point(point):
+    solutions = point.get("hbm_solutions", [])
+    return bool(solutions) and all(
+        s.get("monodromy", {}).get("ok") and s.get("monodromy", {}).get("max_modulus")
+        is not None and s.get("hill", {}).get("max_modulus") is not None for s in solutions)
+
+
+def merged_validation(out, name):
+    """validation.json of NAME with the points of its --complete parts merged by ω (a later
+    part replaces an earlier point with the same ω, unless that one is complete and the later
+    one is not); None if NAME has none."""
+    document = load(out, name, "validation.json")
+    if document is None:
+        return None
+    points = {p["omega"]: p for p in document.get("points", [])}
+    for part in parts(out, name)[1:]:
+        more = load(out, part, "validation.json")
+        for point in (more or {}).get("points", []):
+            old = points.get(point["omega"])
+            if old is None or complete_point(point) or not complete_point(old):
+                points[point["omega"]] = point
+    document = dict(document)
+    document["points"] = [points[w] for w in sorted(points)]
+    return document
+
+
+def incomplete_omegas(out, name, requested):
+    document = merged_validation(out, name) or {}
+    done = {p["omega"]: p for p in document.get("points", [])}
+    return [w for w in requested
+            if not any(abs(w - d) <= 1e-9 * abs(w) and complete_point(p)
+                       for d, p in done.items())]
+
+
 def run_validation(args, entry):
     name, _, source, transient, _, _, change, _ = entry
-    if not args.force and load(args.out, name, "validation.json") is not None:
-        return name, "kept", 0.0
+    part = name
     omegas = validation_omegas(args.out, entry)
+    if not args.force and load(args.out, name, "validation.json") is not None:
+        if not args.complete:
+            return name, "kept", 0.0
+        omegas = incomplete_omegas(args.out, name, omegas)
+        if not omegas:
+            return name, "complete, kept", 0.0
+        part = f"{name}_more{len(parts(args.out, name))}"
+        transient = COMPLETION_TRANSIENT
 
     def edit(document):
         if change:
             change(document)
         document["validation"] = {"omega": omegas, "transient": dict(transient)}
 
-    case = write_case(args.out, name, source, edit)
+    case = write_case(args.out, part, source, edit)
+    name = part
     directory = os.path.join(args.out, name)
     code, seconds = execute([args.nfrc, "validate", case, "--out", directory, "--no-chirp",
                              "--no-plot"], directory)
@@ -229,9 +286,12 @@ def run_validation(args, entry):
 
 
 def run_validations(args):
-    for entry in VALIDATIONS:
-        name, status, seconds = run_validation(args, entry)
-        print(f"stability_study: {name:28s} {status}  {seconds:7.1f} s", flush=True)
+    entries = [e for e in VALIDATIONS if not args.only or e[0] in args.only]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        futures = [pool.submit(run_validation, args, e) for e in entries]
+        for future in concurrent.futures.as_completed(futures):
+            name, status, seconds = future.result()
+            print(f"stability_study: {name:28s} {status}  {seconds:7.1f} s", flush=True)
 
 
 def requested_omegas(out, name):
@@ -517,10 +577,13 @@ DISCUSSION = {
         "once converged (1.4·10⁻⁵). The crossing multipliers of the Neimark–Sacker points "
         "are on the unit circle to 10⁻³; those of the folds are 1.0015–1.07, i.e. the real "
         "multiplier leaves through +1 between two points of the branch. Between 65 670 and "
-        "66 848 the transients started from the upper HBM solution do not settle within the "
-        "60 s wall-clock limit of the study (260–451 periods; the earlier validation found "
-        "them not periodic after 1500 periods): consistent with the quasi-periodic motion a "
-        "Neimark–Sacker loss of stability predicts.",
+        "66 848 every transient started from the upper HBM solution was stopped by the "
+        "wall-clock limit before it became periodic (validation.json: status `failed`, "
+        "“wall-clock limit … reached”; 145–451 periods within 60 s at 65 800–66 400, 68 "
+        "periods within 20 s at 66 700); none is reported `not_periodic`, so this study "
+        "does not show whether they settle (the earlier validation found them not periodic "
+        "after 1500 periods, consistent with the quasi-periodic motion a Neimark–Sacker loss "
+        "of stability predicts).",
     "rod_0_4krod":
         "A softer obstacle: only the two folds bounding the middle branch, whose points are "
         "all unstable (21 points); no Neimark–Sacker point.",
@@ -551,21 +614,46 @@ DISCUSSION = {
         "The reference case: the two folds of the Duffing resonance, with a crossing "
         "multiplier 1.0000 and 0.9996, and the 24 points between them unstable.",
     "val_rod_4krod":
-        "Where both methods can be trusted (smooth, no contact or a flexible obstacle, HBM "
-        "closure ≤ 10⁻²) Hill's max|μ| follows the transient one to 10⁻⁶–10⁻² and the "
-        "verdicts agree, including on the unstable upper and middle solutions inside the "
-        "Neimark–Sacker window. The middle solutions are unstable and their transients leave "
-        "them for the lower branch; the upper ones in the window do not become periodic.",
+        "37 solutions at 15 frequencies, all with both Hill's and the transient multipliers "
+        "(66 700–75 714 from the `--complete` part, with 20 s transients). Outside the fold "
+        "cluster the verdicts agree everywhere, including the unstable upper and middle "
+        "solutions inside the Neimark–Sacker window (65 800–66 700, |Δ max|μ|| ≤ 10⁻²) and "
+        "the upper solutions that are stable again from 67 143 on; the largest difference "
+        "with the same verdict is 0.036 (70 707, solution 2 of 5: Hill 1.082, transient "
+        "1.046). The four disagreements are all in the fold cluster, Hill unstable and the "
+        "transient stable, with Hill's max|μ| just above 1: at 70 707 solutions 3–5 (Hill "
+        "1.0076, transient 0.9531; the same solution found three times — energies, Hill and "
+        "transient multipliers equal to 10⁻⁶ or better) and at 70 824 the upper solution "
+        "(Hill 1.0102, transient 0.9862). At 70 824 the upper and middle solutions have the "
+        "same Hill spectrum to 10⁻¹³ although their energies differ (239.4 and 237.9) and "
+        "their transient multipliers do not (0.986 and 1.006): a piecewise-linear penalty's "
+        "Jacobian depends only on which of the N_t time samples are in contact, so Hill "
+        "cannot tell apart solutions whose sampled contact sets coincide (a likely reading, "
+        "not checked further); near these folds the real multiplier is within 10⁻² of +1 and "
+        "its side is decided by that sampling. The middle solutions are unstable by both "
+        "methods; up to 66 400 their transients reach the lower branch, from 66 700 on they "
+        "are not periodic after 200 periods. Every transient from the upper solution from "
+        "65 800 to 70 707 (solutions 3–5 there) was stopped by the wall-clock limit (status "
+        "`failed`), none is `not_periodic`; at 70 824 the upper one is `not_periodic` after "
+        "200 periods.",
     "val_rod_0_4krod":
-        "Hill and the transient monodromy agree to ≤ 2·10⁻³ in max|μ| on every compared "
-        "solution, including the unstable middle branch (1.03–1.07). The run was stopped at "
-        "the time budget: at 66 000 the monodromy of the middle solution failed (integration "
-        "stopped), and 72 500 was not reached.",
+        "23 solutions at 11 frequencies, all compared (61 000, 65 450, 66 000, 66 100, "
+        "68 000 and 72 500 from the `--complete` part: 72 500 had not been reached and the "
+        "monodromy of the middle solution at 66 000 had been interrupted when the first run "
+        "was stopped). Every verdict agrees, and Hill's max|μ| follows the transient one to "
+        "≤ 1.6·10⁻³ (the middle solution at 65 924), including the unstable middle branch "
+        "(1.02–1.07).",
     "val_rod_40krod":
-        "Only 65 000–65 300 were reached before the time budget. The verdicts agree; the "
+        "21 solutions at 11 frequencies, all compared (61 000, 64 000, 65 300–65 588, 68 000 "
+        "and 72 500 from the `--complete` part). One disagreement: the upper solution at "
+        "65 588, 2 rad/s above the Neimark–Sacker point Hill locates at 65 586 with crossing "
+        "multipliers off the unit circle (1.012 ± 0.046i): Hill 1.013 (unstable), transient "
+        "0.916 (stable), with an HBM closure of 0.048. Otherwise the verdicts agree; the "
         "largest modulus difference is on the unstable middle branch (Hill 1.46, transient "
-        "1.34 at 65 150), where the HBM closure (≈10⁻²–4·10⁻²) is larger than for the 4 and "
-        "0.4 k_rod obstacles.",
+        "1.34 at 65 150), and on the upper branch Hill is 0.02–0.045 above the transient "
+        "(65 300–65 500), where the HBM closure (2·10⁻²–6·10⁻²) is larger than for the 4 "
+        "and 0.4 k_rod obstacles. The transients from the upper (or only) solutions from "
+        "64 000 to 65 588 were all stopped by the 20 s wall-clock limit.",
     "val_rod_rigid":
         "Six disagreements, all where the HBM closure is 0.03–0.18 (the HBM state is not on "
         "a periodic orbit of the time model: penalty ε of DLFT, Gibbs with N_h = 20). At "
@@ -588,12 +676,15 @@ DISCUSSION = {
         "N_φ = 60 harmonics, spreads them; only the dominant multiplier is comparable, and "
         "it agrees best where it is closest to 1 (ω = 0.618: 2·10⁻⁶).",
     "summary":
-        "Every verdict agrees except on the rigid obstacle (six solutions, all with HBM "
-        "closure ≥ 0.03). Modulus differences are smallest on the flexible-obstacle rods "
-        "(≤ 10⁻² where the verdicts agree, 0.12 on the 40 k_rod middle branch), and up to "
-        "0.1–0.3 for friction (stick phases) without changing a verdict, because the "
-        "friction branches are far from the unit circle except near 0.618 where they agree "
-        "to 10⁻⁵.",
+        "On the rigid obstacle six solutions disagree, all with HBM closure ≥ 0.03. On the "
+        "flexible obstacles the 0.4 k_rod case agrees everywhere (≤ 1.6·10⁻³); the 4 k_rod "
+        "one disagrees on four solutions (three of them the same solution) in the fold "
+        "cluster near 70 700–70 830, where Hill's real multiplier is within 10⁻² of +1, and "
+        "the 40 k_rod one on the upper solution 2 rad/s from a Neimark–Sacker point; "
+        "elsewhere their moduli agree to ≤ 0.045 (0.12 on the 40 k_rod middle branch). For "
+        "friction the moduli differ by up to 0.1–0.3 (stick phases) without changing a "
+        "verdict, because the friction branches are far from the unit circle except near "
+        "0.618 where they agree to 10⁻⁵.",
 }
 
 
@@ -609,6 +700,12 @@ def parse_arguments():
     parser.add_argument("--markdown", default=os.path.join(REPO, "docs", "stability_results.md"))
     parser.add_argument("--skip-validation", action="store_true",
                         help="no nfrc validate runs (tables from existing ones only)")
+    parser.add_argument("--only", type=lambda text: text.split(","), default=None,
+                        help="run only these validations (comma-separated run names, e.g. "
+                        "val_rod_4krod); the tables still cover all")
+    parser.add_argument("--complete", action="store_true",
+                        help="complete existing validations: rerun only their missing or "
+                        "incomplete frequencies (short transients) into OUT/NAME_moreK")
     args = parser.parse_args()
     if not os.access(args.nfrc, os.X_OK):
         sys.exit(f"stability_study: {args.nfrc} is not an executable (build nfrc, or --nfrc)")
@@ -636,7 +733,9 @@ def main():
     elapsed = time.monotonic() - started
     trace_total = sum(printed_time(args.out, n + suffix) or 0.0 for n, _, _ in TRACES
                       for suffix in ("", "_nostab"))
-    validation_total = sum(validation_seconds(args.out, e[0]) or 0.0 for e in VALIDATIONS)
+    completions = sum(len(parts(args.out, e[0])) - 1 for e in VALIDATIONS)
+    validation_total = sum(validation_seconds(args.out, part) or 0.0 for e in VALIDATIONS
+                           for part in parts(args.out, e[0]))
     lines = ["# Stability results: Hill's method along the branch, checked against the "
              "transient monodromy", "",
              "Generated by `tools/studies/stability_study.py`. Every case is traced with "
@@ -648,13 +747,16 @@ def main():
              "at t = 0), and integrates a transient from each solution to steady state.", "",
              f"**Reproduce** (from the repository root): `/usr/bin/python3 "
              f"tools/studies/stability_study.py --nfrc build/nfrc` — {2 * len(TRACES)} "
-             f"`nfrc run` and {len(VALIDATIONS)} `nfrc validate` calls. Measured: the traces' "
+             f"`nfrc run` and {len(VALIDATIONS)} `nfrc validate` calls"
+             + (f", plus {completions} `--complete` calls on the frequencies the first "
+                "validations had not finished" if completions else "")
+             + ". Measured: the traces' "
              f"continuation times add up to {trace_total:.0f} s and the validations' wall times "
              f"to {validation_total:.0f} s (tables below); this invocation took {elapsed:.0f} s"
              + (f" ({kept} traces kept from earlier invocations; the validations were run in "
                 "pieces, partly two or three at a time, to fit the time budget)" if kept else "")
              + f". 2-core machine shared with a compilation (load average {load_average:.1f} "
-             "when this invocation started, 2.5–4.3 during the runs). Outputs go to "
+             "when this invocation started, 2.5–4.9 during the runs). Outputs go to "
              "`out/stability/` (`--out`).", ""]
     lines += ["## Figures", ""]
     for path, caption in figures:
@@ -700,18 +802,27 @@ def main():
     summary_rows = []
     for entry in VALIDATIONS:
         name, trace, source, transient, _, _, change, note = entry
-        document = load(args.out, name, "validation.json")
+        document = merged_validation(args.out, name)
         title = next(t for n, _, t in TRACES if n == trace)
         lines += [f"### {title} (`{source}`)", ""]
         limits = ", ".join(f"{k} = {v}" for k, v in transient.items())
         seconds = validation_seconds(args.out, name)
         lines += [f"`nfrc validate` on a copy with the frequencies below, transient {limits}"
                   + (f"; {note}" if note else "") + f"; wall time {fmt(seconds, 3)} s.", ""]
+        for part in parts(args.out, name)[1:]:
+            limits = ", ".join(f"{k} = {v}" for k, v in COMPLETION_TRANSIENT.items())
+            lines += [f"Completed (`--complete`, into `{part}`) at "
+                      f"{', '.join(fmt(w, 6) for w in requested_omegas(args.out, part))}, the "
+                      f"frequencies the first run had not reached or had left without a "
+                      f"monodromy, with transient {limits}; wall time "
+                      f"{fmt(validation_seconds(args.out, part), 3)} s. Those rows come from "
+                      "this run.", ""]
         if document is None:
             lines += ["Not run (no validation.json).", ""]
             continue
         rows, records = hill_rows(document)
-        requested = requested_omegas(args.out, name)
+        requested = sorted(set(requested_omegas(args.out, name)) |
+                           set(validation_omegas(args.out, entry)))
         done = [p["omega"] for p in document.get("points", [])]
         missing = [w for w in requested if all(abs(w - d) > 1e-9 * abs(w) for d in done)]
         lines += [f"Frequencies requested: {', '.join(fmt(w, 6) for w in requested)}."
