@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "continuation/fixed_lambda.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {
@@ -60,6 +61,29 @@ std::optional<Eigen::VectorXd> OddNullVector(HarmonicSystem& system, const Eigen
   return NearNullVector(system, y, nu, v);
 }
 
+// Traces `the_case` from its solution y at λ = lambda towards lambda_end and records the new
+// branch in `result` (its start in ω, which is period_multiple·λ).
+void TraceSwitched(Case the_case, double lambda, double lambda_end, const Eigen::VectorXd& y,
+                   const TraceOptions& options, SwitchedBranch* result) {
+  the_case.continuation.lambda_start = lambda;
+  the_case.continuation.lambda_end = lambda_end;
+  TraceOptions from = options;
+  from.start = &y;
+  result->trace = TraceCase(the_case, from);
+  result->the_case = std::move(the_case);
+  result->start_omega = result->the_case.period_multiple * lambda;
+  result->started = true;
+  result->message = "started at omega = " + std::to_string(result->start_omega);
+}
+
+// A switch that found no start: the message, and a start_failed summary that says it.
+SwitchedBranch NotStarted(SwitchedBranch result, std::string message) {
+  result.message = message;
+  result.trace.branch.summary.reason = TerminationReason::kStartFailed;
+  result.trace.branch.summary.message = std::move(message);
+  return result;
+}
+
 // A deterministic start for inverse iteration with a component along every direction.
 Eigen::VectorXd SpreadVector(Eigen::Index size) {
   Eigen::VectorXd v(size);
@@ -82,6 +106,8 @@ Case SubharmonicCase(const Case& base, int multiple) {
   c.lambda_min /= m;  // NaN stays NaN
   c.lambda_max /= m;
   c.lambda_scale /= m;
+  // The engine's progress lines then name the parameter for what it is.
+  c.lambda_name = "omega/" + std::to_string(base.period_multiple * multiple);
   for (double& omega : sub.signals_at) omega /= m;
   for (double& omega : sub.validation.omegas) omega /= m;
   sub.validation.chirp.omega_start /= m;
@@ -117,8 +143,7 @@ SwitchedBranch FollowBranchPoint(const Case& base, const Bifurcation& branch_poi
   const std::optional<Eigen::VectorXd> phi =
       NearNullVector(*system, y_bp, branch_point.omega, SpreadVector(y_bp.size()));
   if (!phi) {
-    result.message = "no null vector of the Jacobian at the branch point";
-    return result;
+    return NotStarted(std::move(result), "no null vector of the Jacobian at the branch point");
   }
   const double lo = base.continuation.LowerBound(), hi = base.continuation.UpperBound();
   for (const double side : {1.0, -1.0}) {
@@ -135,28 +160,35 @@ SwitchedBranch FollowBranchPoint(const Case& base, const Bifurcation& branch_poi
         if (!solved.converged) continue;
         const double distance = (solved.y - primary.y).norm() / primary.y.norm();
         if (distance < kMinimumDistance) continue;
-        result.subharmonic_content = distance;
-        result.start_omega = omega;
-        Case traced = base;
-        traced.continuation.lambda_start = omega;
-        traced.continuation.lambda_end = side > 0 ? hi : lo;
         if (options.progress != nullptr) {
           *options.progress << "nfrc: branch from the branch point at omega = "
                             << branch_point.omega << ", starting at omega = " << omega
                             << " (relative distance to the first branch " << distance << ")\n";
         }
-        TraceOptions from = options;
-        from.start = &solved.y;
-        result.trace = TraceCase(traced, from);
-        result.the_case = traced;
-        result.started = true;
-        result.message = "started at omega = " + std::to_string(omega);
+        result.subharmonic_content = distance;
+        TraceSwitched(base, omega, side > 0 ? hi : lo, solved.y, options, &result);
         return result;
       }
     }
   }
-  result.message = "no second solution beside the branch point (tried both sides)";
-  return result;
+  return NotStarted(std::move(result),
+                    "no second solution beside the branch point (tried both sides)");
+}
+
+SwitchedBranch FollowBifurcation(const Case& base, const Bifurcation& bifurcation,
+                                 const TraceOptions& options) {
+  switch (bifurcation.type) {
+    case BifurcationType::kPeriodDoubling:
+      return FollowPeriodDoubling(base, bifurcation, options);
+    case BifurcationType::kBranchPoint:
+      return FollowBranchPoint(base, bifurcation, options);
+    case BifurcationType::kFold:
+    case BifurcationType::kNeimarkSacker:
+      break;
+  }
+  throw InputError(std::string("bifurcation: a ") + ToString(bifurcation.type) +
+                   " starts no other branch of periodic solutions (switching needs a "
+                   "period_doubling or a branch_point)");
 }
 
 double OddHarmonicContent(const Eigen::VectorXd& y, const HarmonicSet& set, int num_signals) {
@@ -183,15 +215,15 @@ SwitchedBranch FollowPeriodDoubling(const Case& base, const Bifurcation& period_
   // Own unknowns that are samples cannot be re-expressed in other harmonics.
   for (const auto& law : system->laws()) {
     if (law->NumOwnUnknowns(set) > 0 && !law->OwnUnknownsAreCoefficients()) {
-      result.message = "a law's own unknowns are time samples: no period-2 start";
-      return result;
+      return NotStarted(std::move(result),
+                        "a law's own unknowns are time samples: no period-2 start");
     }
   }
   const Eigen::VectorXd y_pd = ToSubharmonic(period_doubling.y, base.harmonics, set, 2);
   const std::optional<Eigen::VectorXd> phi = OddNullVector(*system, y_pd, nu_pd);
   if (!phi) {
-    result.message = "no null vector of the period-2 Jacobian at the period doubling";
-    return result;
+    return NotStarted(std::move(result),
+                      "no null vector of the period-2 Jacobian at the period doubling");
   }
   const int num_signals = system->num_displacement_unknowns() / set.NumCoefficients();
   const double lo = base.continuation.LowerBound() / 2, hi = base.continuation.UpperBound() / 2;
@@ -205,27 +237,18 @@ SwitchedBranch FollowPeriodDoubling(const Case& base, const Bifurcation& period_
       if (!solved.converged) continue;
       const double content = OddHarmonicContent(solved.y, set, num_signals);
       if (content < kMinimumContent) continue;
-      result.subharmonic_content = content;
-      result.start_omega = 2.0 * nu;
-      Case traced = result.the_case;
-      traced.continuation.lambda_start = nu;
-      traced.continuation.lambda_end = side > 0 ? hi : lo;
       if (options.progress != nullptr) {
         *options.progress << "nfrc: period-2 branch from the period doubling at omega = "
                           << period_doubling.omega << ", starting at omega = " << 2.0 * nu
                           << " (odd nu-harmonic content " << content << ")\n";
       }
-      TraceOptions from = options;
-      from.start = &solved.y;
-      result.trace = TraceCase(traced, from);
-      result.the_case = traced;
-      result.started = true;
-      result.message = "started at omega = " + std::to_string(2.0 * nu);
+      result.subharmonic_content = content;
+      TraceSwitched(result.the_case, nu, side > 0 ? hi : lo, solved.y, options, &result);
       return result;
     }
   }
-  result.message = "no period-2 solution beside the period doubling (tried both sides)";
-  return result;
+  return NotStarted(std::move(result),
+                    "no period-2 solution beside the period doubling (tried both sides)");
 }
 
 }  // namespace nfrc

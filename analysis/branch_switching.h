@@ -29,9 +29,11 @@ Eigen::VectorXd ToSubharmonic(const Eigen::VectorXd& y, const HarmonicSet& from,
 // away from the point to the end of the base case's range.
 struct SwitchedBranch {
   bool started = false;
-  std::string message;       // how it started, or why it did not
-  Case the_case;             // the period-2 case (continuation parameter ν = ω/2)
-  TraceResult trace;         // its branch (λ = ν); empty when not started
+  std::string message;  // how it started, or why it did not
+  Case the_case;        // the period-2 case (continuation parameter ν = ω/2)
+  // Its branch (λ = ν); when not started, no points and a start_failed summary whose message
+  // says why.
+  TraceResult trace;
   double start_omega = 0.0;  // ω (base units) of the first period-2 point
   // ‖odd ν-harmonics‖/‖y‖ of the first point: how far it is from the period-1 branch.
   double subharmonic_content = 0.0;
@@ -46,6 +48,12 @@ SwitchedBranch FollowPeriodDoubling(const Case& base, const Bifurcation& period_
 // finds from y_bp itself (by more than 1e-3 relative) starts a trace away from the point.
 // subharmonic_content is then that relative difference.
 SwitchedBranch FollowBranchPoint(const Case& base, const Bifurcation& branch_point,
+                                 const TraceOptions& options = {});
+
+// FollowPeriodDoubling or FollowBranchPoint by the bifurcation's type. Throws InputError
+// ("bifurcation: ...") for a fold or a Neimark–Sacker point, which start no other branch of
+// periodic solutions.
+SwitchedBranch FollowBifurcation(const Case& base, const Bifurcation& bifurcation,
                                  const TraceOptions& options = {});
 
 // ‖odd harmonics of a full set‖/‖y‖ over the DOF signals of y (the period-2 content).

@@ -30,18 +30,9 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
     BranchWriter sub_writer(dir, sub, source);
     TraceOptions sub_options = options;
     sub_options.observer = &sub_writer;
-    const SwitchedBranch switched = doubling
-                                        ? FollowPeriodDoubling(the_case, bifurcation, sub_options)
-                                        : FollowBranchPoint(the_case, bifurcation, sub_options);
-    if (switched.started) {
-      sub_writer.SetWindows(switched.trace.quasi_periodic_windows);
-      sub_writer.Finish(switched.trace.branch.summary);
-    } else {
-      ContinuationSummary summary;
-      summary.reason = TerminationReason::kStartFailed;
-      summary.message = switched.message;
-      sub_writer.Finish(summary);
-    }
+    const SwitchedBranch switched = FollowBifurcation(the_case, bifurcation, sub_options);
+    sub_writer.SetWindows(switched.trace.quasi_periodic_windows);
+    sub_writer.Finish(switched.trace.branch.summary);
     if (progress != nullptr) {
       *progress << "nfrc: " << (doubling ? "period-2 branch " : "branch-point branch ") << number
                 << ": " << switched.message << ", wrote " << dir << "/branch.json\n";

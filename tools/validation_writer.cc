@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tools/branch_writer.h"
 #include "tools/output_files.h"
 
 namespace nfrc {
@@ -75,30 +76,23 @@ nlohmann::json TransientJson(const TransientRun& run, const std::string& signals
 
 // The transient monodromy of one HBM solution: multipliers as [re, im], by decreasing |μ|.
 nlohmann::json MonodromyJson(const MonodromyResult& m) {
-  nlohmann::json multipliers = nlohmann::json::array();
-  for (const std::complex<double>& mu : m.multipliers)
-    multipliers.push_back({mu.real(), mu.imag()});
   return {{"ok", m.ok},
           {"message", m.message},
-          {"multipliers", std::move(multipliers)},
+          {"multipliers", ComplexListToJson(m.multipliers)},
           {"max_modulus", m.max_modulus()},
           {"closure", m.closure},
           {"integrations", m.integrations},
           {"wall_seconds", m.wall_seconds}};
 }
 
-// Hill's multipliers of one HBM solution and their distance to the transient ones.
+// Hill's multipliers of one HBM solution (the branch points' "floquet" record) and their
+// distance to the transient ones.
 nlohmann::json HillJson(const SolutionStability& stability) {
   const FloquetResult& hill = stability.hill;
-  nlohmann::json multipliers = nlohmann::json::array();
-  for (const std::complex<double>& mu : hill.multipliers)
-    multipliers.push_back({mu.real(), mu.imag()});
-  nlohmann::json j = {{"multipliers", std::move(multipliers)},
-                      {"max_modulus", hill.max_modulus},
-                      {"unstable", hill.num_unstable},
-                      {"stable", hill.stable()},
-                      {"message", hill.message},
-                      {"seconds", hill.seconds}};
+  nlohmann::json j = FloquetToJson(hill);
+  j["stable"] = hill.stable();
+  j["message"] = hill.message;
+  j["seconds"] = hill.seconds;
   if (stability.multiplier_difference) {
     j["difference_to_monodromy"] = *stability.multiplier_difference;
     j["max_modulus_difference"] = *stability.max_modulus_difference;

@@ -146,20 +146,30 @@ bool TransientDriver::RecordPeriod(int p, double omega, PeriodRecord* record, do
   return true;
 }
 
-TransientResult TransientDriver::RunToSteadyState(double omega, const InitialState& start) {
+Excitation TransientDriver::HarmonicExcitation(double omega) const {
   if (!(omega > 0.0) || !std::isfinite(omega)) {
     throw InputError("validation.omega: must be finite and > 0");
   }
+  return Excitation::Harmonic(model_.forcing, omega);
+}
+
+StepperStart TransientDriver::StartFrom(const Excitation& excitation, const InitialState& start,
+                                        Clock::time_point clock_start) {
   const int n = model_.num_dofs();
-  const Excitation excitation = Excitation::Harmonic(model_.forcing, omega);
   StepperStart begin;
   begin.excitation = &excitation;
   begin.x = StartValues(start.x, n, "validation.initial_state.x");
   begin.v = StartValues(start.v, n, "validation.initial_state.v");
   begin.samples_per_cycle = options_.samples_per_period;
-  const Clock::time_point clock_start = Clock::now();
   deadline_ = Deadline(clock_start, options_.max_seconds);
   begin.deadline = deadline_;
+  return begin;
+}
+
+TransientResult TransientDriver::RunToSteadyState(double omega, const InitialState& start) {
+  const Excitation excitation = HarmonicExcitation(omega);
+  const Clock::time_point clock_start = Clock::now();
+  const StepperStart begin = StartFrom(excitation, start, clock_start);
 
   TransientResult result;
   result.method = stepper_->method();
@@ -205,20 +215,11 @@ TransientResult TransientDriver::RunToSteadyState(double omega, const InitialSta
 
 bool TransientDriver::IntegratePeriods(double omega, const InitialState& start, int periods,
                                        InitialState* end, std::string* message) {
-  if (!(omega > 0.0) || !std::isfinite(omega)) {
-    throw InputError("validation.omega: must be finite and > 0");
-  }
+  const Excitation excitation = HarmonicExcitation(omega);
   if (periods < 1) throw InputError("IntegratePeriods: periods must be >= 1");
-  const int n = model_.num_dofs();
-  const Excitation excitation = Excitation::Harmonic(model_.forcing, omega);
-  StepperStart begin;
-  begin.excitation = &excitation;
-  begin.x = StartValues(start.x, n, "validation.initial_state.x");
-  begin.v = StartValues(start.v, n, "validation.initial_state.v");
-  // The explicit scheme takes its resolution from it: the same map as RunToSteadyState's.
-  begin.samples_per_cycle = options_.samples_per_period;
-  deadline_ = Deadline(Clock::now(), options_.max_seconds);
-  begin.deadline = deadline_;
+  // The same start as RunToSteadyState's (the explicit scheme's resolution included), so
+  // that the period map is the one the steady-state runs integrate.
+  const StepperStart begin = StartFrom(excitation, start, Clock::now());
   if (!stepper_->Start(begin)) {
     *message = stepper_->message();
     return false;

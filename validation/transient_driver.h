@@ -41,6 +41,13 @@ class TransientDriver : public TransientIntegrator {
   bool RecordPeriod(int p, double omega, PeriodRecord* record, double* scale, std::string* failure);
   // Advances the stepper to t; on failure or past the wall-clock limit, false with `failure`.
   bool Advance(double t, std::string* failure);
+  // The harmonic excitation at ω; InputError for a non-positive or non-finite ω.
+  Excitation HarmonicExcitation(double omega) const;
+  // A run from `start` at t = 0 under `excitation` (which must outlive it), sampled
+  // samples_per_period times a cycle, with the wall-clock limit counted from clock_start
+  // (also set as deadline_). InputError names the initial-state field of a wrong size.
+  StepperStart StartFrom(const Excitation& excitation, const InitialState& start,
+                         std::chrono::steady_clock::time_point clock_start);
   // ½vᵀMv + ½xᵀKx at the stepper's current state (J).
   double Energy() const;
 

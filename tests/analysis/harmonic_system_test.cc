@@ -8,6 +8,7 @@
 
 #include "analysis/case.h"
 #include "nonlinearities/jacobian_check.h"
+#include "support/chain_case.h"
 
 namespace nfrc {
 namespace {
@@ -30,16 +31,7 @@ ContactGeometry Gap(int dof, double gap) {
 // onto those DOFs: the interior DOF 2 is condensed out, so Z_red(ω) is a true Schur
 // complement and its ω-derivative enters every row.
 Case ChainWithEveryLaw() {
-  const int n = 5;
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) {
-    k(i, i) = 2.0;
-    if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
-  }
-  Case c;
-  c.model.model.stiffness = k.sparseView();
-  c.model.model.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
-  c.model.model.damping = (0.02 * k).sparseView();
+  Case c = testing::ChainCase(5);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}, ForcingTerm{4, 1, 0.0, 0.1}};
   c.harmonics = HarmonicSet(3, false, 32);
   c.laws.push_back(CubicSpringSpec{0, 1, 0.4});

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "analysis/case.h"
+#include "support/chain_case.h"
 #include "support/rk4.h"
 
 namespace nfrc {
@@ -181,20 +182,31 @@ TEST_CASE("hill: the boundaries of the first Mathieu tongue match the classical 
   }
 }
 
+// Schur complement of m onto `kept`, eliminating `eliminated` (index lists into m).
+Eigen::MatrixXd SchurComplement(const Eigen::MatrixXd& m, const std::vector<int>& kept,
+                                const std::vector<int>& eliminated) {
+  auto block = [&](const std::vector<int>& rows, const std::vector<int>& cols) {
+    Eigen::MatrixXd b(rows.size(), cols.size());
+    for (size_t i = 0; i < rows.size(); ++i)
+      for (size_t j = 0; j < cols.size(); ++j) b(i, j) = m(rows[i], cols[j]);
+    return b;
+  };
+  return block(kept, kept) - block(kept, eliminated) *
+                                 block(eliminated, eliminated).lu().solve(block(eliminated, kept));
+}
+
+// Consecutive indices [first, last).
+std::vector<int> Range(int first, int last) {
+  std::vector<int> indices;
+  for (int i = first; i < last; ++i) indices.push_back(i);
+  return indices;
+}
+
 // Condensing Δ0 onto the retained DOFs and own unknowns gives back the system's Jacobian
 // (FD-checked in harmonic_system_test): the assembly, the DOF map and the laws' blocks.
 TEST_CASE(
     "hill: delta0 condensed is the harmonic system's Jacobian, with friction's velocity block") {
-  const int n = 4;
-  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) {
-    k(i, i) = 2.0;
-    if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
-  }
-  Case c;
-  c.model.model.stiffness = k.sparseView();
-  c.model.model.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
-  c.model.model.damping = (0.02 * k).sparseView();
+  Case c = testing::ChainCase(4);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = HarmonicSet(3, false, 32);
   c.laws.push_back(CubicSpringSpec{0, -1, 0.4});
@@ -216,21 +228,10 @@ TEST_CASE(
   const HillPencil pencil = AssembleHillPencil(*system, y, omega);
   const int nc = c.harmonics.NumCoefficients();
   // Full unknowns: DOFs 0..3 (blocks of nc), then the friction force. Retained: 0, 3.
-  std::vector<int> kept, eliminated;
-  for (int i = 0; i < nc; ++i) kept.push_back(i);
-  for (int i = 0; i < nc; ++i) kept.push_back(3 * nc + i);
-  for (int i = 0; i < nc; ++i) kept.push_back(4 * nc + i);
-  for (int i = nc; i < 3 * nc; ++i) eliminated.push_back(i);
+  std::vector<int> kept = Range(0, nc);
+  for (int i : Range(3 * nc, 5 * nc)) kept.push_back(i);
   const Eigen::MatrixXd d0(pencil.d0);
-  auto block = [&](const std::vector<int>& rows, const std::vector<int>& cols) {
-    Eigen::MatrixXd b(rows.size(), cols.size());
-    for (size_t i = 0; i < rows.size(); ++i)
-      for (size_t j = 0; j < cols.size(); ++j) b(i, j) = d0(rows[i], cols[j]);
-    return b;
-  };
-  const Eigen::MatrixXd schur =
-      block(kept, kept) -
-      block(kept, eliminated) * block(eliminated, eliminated).lu().solve(block(eliminated, kept));
+  const Eigen::MatrixXd schur = SchurComplement(d0, kept, Range(nc, 3 * nc));
   // Condensation and Schur complement differ by round-off only.
   CHECK((schur - jacobian).norm() <= 1e-10 * jacobian.norm());
   // Ψ depends on x only through v = ωDx: its x-block of Δ0 is Δ1's velocity block times ωD.
@@ -242,78 +243,38 @@ TEST_CASE(
         1e-12 * d0.block(4 * nc, 3 * nc, nc, nc).norm());
 }
 
-}  // namespace
-}  // namespace nfrc
-
-namespace nfrc {
-namespace {
-
 // DLFT against a rigid obstacle: the law's force through the linear rows
 // (LinearResidualPart) must condense back to DLFT's Jacobian, Z-dependence included, so that
 // its folds are +1 crossings. (With a flexible obstacle the full pencil's structure row and
 // the condensed relative row are different combinations of the same equations; their
 // agreement is checked through the folds of the rod in stability_test.)
-TEST_CASE("hill: delta0 condensed is DLFT's Jacobian against a flexible obstacle") {
-  for (const double obstacle : {0.0}) {
-    CAPTURE(obstacle);
-    const int n = 4;
-    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-    for (int i = 0; i < n; ++i) {
-      k(i, i) = 2.0;
-      if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
-    }
-    Case c;
-    c.model.model.stiffness = k.sparseView();
-    c.model.model.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
-    c.model.model.damping = (0.02 * k).sparseView();
-    c.model.forcing = {ForcingTerm{3, 1, 0.3, 0.0}};
-    c.harmonics = HarmonicSet(4, false, 32);
-    ContactGeometry geometry;
-    geometry.dof = 3;
-    geometry.gap = 0.05;
-    c.laws.push_back(DlftContactSpec{{geometry, obstacle, 0.0}});
-    c.output_dofs = {0};
-    c.output_names = {"0"};
-    auto system = BuildSystem(c);
-    const double omega = 0.9;
-    Eigen::VectorXd y = system->InitialGuess(omega);
-    std::srand(11);  // a state with contact on some samples and not on others
-    y += 0.05 * Eigen::VectorXd::Random(y.size());
-    Eigen::VectorXd residual;
-    Eigen::MatrixXd jacobian;
-    REQUIRE(system->Evaluate(y, omega, &residual, &jacobian, nullptr));
-    const HillPencil pencil = AssembleHillPencil(*system, y, omega);
-    const int nc = c.harmonics.NumCoefficients();
-    const int blocks = obstacle > 0.0 ? 5 : 4;
-    REQUIRE(pencil.d0.rows() == blocks * nc);
-    // Columns in the variables (x0, x1, x2, x_r, u): x3 = x_r + u, so u's column is x3's + u's.
-    Eigen::MatrixXd d0(pencil.d0);
-    if (obstacle > 0.0) d0.middleCols(4 * nc, nc) += d0.middleCols(3 * nc, nc);
-    std::vector<int> eliminated;
-    for (int i = 0; i < 3 * nc; ++i) eliminated.push_back(i);
-    for (int i = 4 * nc; i < blocks * nc; ++i) eliminated.push_back(i);
-    std::vector<int> kept;
-    for (int i = 3 * nc; i < 4 * nc; ++i) kept.push_back(i);
-    auto block = [&](const std::vector<int>& rows, const std::vector<int>& cols) {
-      Eigen::MatrixXd b(rows.size(), cols.size());
-      for (size_t i = 0; i < rows.size(); ++i)
-        for (size_t j = 0; j < cols.size(); ++j) b(i, j) = d0(rows[i], cols[j]);
-      return b;
-    };
-    const Eigen::MatrixXd schur =
-        block(kept, kept) -
-        block(kept, eliminated) * block(eliminated, eliminated).lu().solve(block(eliminated, kept));
-    const Eigen::MatrixXd weights =
-        system->laws()[0]->LinearResidualPart(system->context(0), y, omega)->weights;
-    CHECK(weights.norm() > 0.0);  // some samples in contact
-    Case bare = c;
-    bare.laws.clear();
-    bare.output_dofs = {3};
-    const Eigen::MatrixXd z1 = BuildSystem(bare)->LinearOperator(omega);
-    const Eigen::MatrixXd zr = system->LinearOperator(omega);
-    const Eigen::MatrixXd expected = z1 * zr.lu().solve(jacobian);
-    CHECK((schur - expected).norm() <= 1e-9 * expected.norm());
-  }
+TEST_CASE("hill: delta0 condensed is DLFT's Jacobian against a rigid obstacle") {
+  Case c = testing::ChainCase(4);
+  c.model.forcing = {ForcingTerm{3, 1, 0.3, 0.0}};
+  c.harmonics = HarmonicSet(4, false, 32);
+  ContactGeometry geometry;
+  geometry.dof = 3;
+  geometry.gap = 0.05;
+  c.laws.push_back(DlftContactSpec{{geometry, 0.0, 0.0}});
+  c.output_dofs = {0};
+  c.output_names = {"0"};
+  auto system = BuildSystem(c);
+  const double omega = 0.9;
+  Eigen::VectorXd y = system->InitialGuess(omega);
+  std::srand(11);  // a state with contact on some samples and not on others
+  y += 0.05 * Eigen::VectorXd::Random(y.size());
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  REQUIRE(system->Evaluate(y, omega, &residual, &jacobian, nullptr));
+  const HillPencil pencil = AssembleHillPencil(*system, y, omega);
+  const int nc = c.harmonics.NumCoefficients();
+  REQUIRE(pencil.d0.rows() == 4 * nc);
+  const Eigen::MatrixXd schur =
+      SchurComplement(Eigen::MatrixXd(pencil.d0), Range(3 * nc, 4 * nc), Range(0, 3 * nc));
+  const Eigen::MatrixXd weights =
+      system->laws()[0]->LinearResidualPart(system->context(0), y, omega)->weights;
+  CHECK(weights.norm() > 0.0);  // some samples in contact
+  CHECK((schur - jacobian).norm() <= 1e-9 * jacobian.norm());
 }
 
 }  // namespace

@@ -68,8 +68,10 @@ Eigen::VectorXd StateAwayFromSwitches(const CoulombFriction& law, const Setup& s
   return {};
 }
 
-TEST_CASE("every friction law: Jacobian and ω-derivative match finite differences") {
-  std::mt19937 rng(20261122);
+// Calls check(law, setup, relative) for every friction equality, against ground and between
+// two DOFs, with parameters that put samples on every branch of each law.
+template <typename Check>
+void ForEachFrictionLaw(const Check& check) {
   const FrictionEquality laws[] = {
       FrictionEquality::kMinMax, FrictionEquality::kHueber,          FrictionEquality::kTanh,
       FrictionEquality::kArctan, FrictionEquality::kPiecewiseLinear, FrictionEquality::kSign};
@@ -84,66 +86,59 @@ TEST_CASE("every friction law: Jacobian and ω-derivative match finite differenc
       p.alpha = 3.0;
       p.delta = 0.5;
       const CoulombFriction law(relative ? 0 : 1, relative ? 1 : -1, p);
-      Setup setup(relative);
-      const double omega = 0.8;
-      for (int trial = 0; trial < 3; ++trial) {
-        const Eigen::VectorXd y = StateAwayFromSwitches(law, setup, omega, rng);
-        const JacobianCheckResult result =
-            CheckNonlinearityJacobian(law, setup.ctx, nullptr, y, omega, kFdStep, 1.0);
-        CHECK(result.y_error < kFdTolerance);
-        CHECK(result.omega_error < kFdTolerance);
-      }
+      const Setup setup(relative);
+      check(law, setup, relative);
     }
   }
+}
+
+TEST_CASE("every friction law: Jacobian and ω-derivative match finite differences") {
+  std::mt19937 rng(20261122);
+  ForEachFrictionLaw([&](const CoulombFriction& law, const Setup& setup, bool /*relative*/) {
+    const double omega = 0.8;
+    for (int trial = 0; trial < 3; ++trial) {
+      const Eigen::VectorXd y = StateAwayFromSwitches(law, setup, omega, rng);
+      const JacobianCheckResult result =
+          CheckNonlinearityJacobian(law, setup.ctx, nullptr, y, omega, kFdStep, 1.0);
+      CHECK(result.y_error < kFdTolerance);
+      CHECK(result.omega_error < kFdTolerance);
+    }
+  });
 }
 
 // Hill's Δ1 block: the law depends on the displacements only through v = ωDx, so the
 // displacement columns of its Jacobian are J_v·ωD. Central differences of the residual in x
 // (at fixed force coefficients) give them; on an odd-only set D is invertible, so this checks
 // every entry of the velocity Jacobian J_v.
-TEST_CASE("every friction law: the velocity Jacobian for Hill's method matches finite differences") {
+TEST_CASE(
+    "every friction law: the velocity Jacobian for Hill's method matches finite differences") {
   std::mt19937 rng(20261124);
-  const FrictionEquality laws[] = {
-      FrictionEquality::kMinMax, FrictionEquality::kHueber,          FrictionEquality::kTanh,
-      FrictionEquality::kArctan, FrictionEquality::kPiecewiseLinear, FrictionEquality::kSign};
-  for (FrictionEquality equality : laws) {
-    for (bool relative : {false, true}) {
-      CAPTURE(ToString(equality));
-      CAPTURE(relative);
-      FrictionParameters p;
-      p.equality = equality;
-      p.limit = 9.0;
-      p.rho = 0.7;
-      p.alpha = 3.0;
-      p.delta = 0.5;
-      const CoulombFriction law(relative ? 0 : 1, relative ? 1 : -1, p);
-      Setup setup(relative);
-      const double omega = 0.8;
-      const int nc = setup.set.NumCoefficients();
-      const Eigen::VectorXd y = StateAwayFromSwitches(law, setup, omega, rng);
-      Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(y.size(), y.size());
-      Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(y.size(), y.size());
-      law.LinearizeForStability(setup.ctx, y, omega, &jacobian, &velocity);
-      const int dof = setup.ctx.DofOffset(0), own = setup.ctx.own_offset;
-      Eigen::MatrixXd fd(nc, nc);
-      for (int j = 0; j < nc; ++j) {
-        const double h = kFdStep * std::max(1.0, std::abs(y(dof + j)));
-        Eigen::VectorXd plus = y, minus = y;
-        plus(dof + j) += h;
-        minus(dof + j) -= h;
-        Eigen::VectorXd r_plus = Eigen::VectorXd::Zero(y.size()), r_minus = r_plus;
-        law.Evaluate(setup.ctx, plus, omega, r_plus, nullptr, nullptr);
-        law.Evaluate(setup.ctx, minus, omega, r_minus, nullptr, nullptr);
-        fd.col(j) = (r_plus - r_minus).segment(own, nc) / (2 * h);
-      }
-      const Eigen::MatrixXd block = velocity.block(own, dof, nc, nc);
-      const Eigen::MatrixXd expected = fd * (omega * setup.fourier.DerivativeMatrix()).inverse();
-      CHECK((block - expected).norm() <= kFdTolerance * std::max(1.0, expected.norm()));
-      if (relative) {
-        CHECK((velocity.block(own, setup.ctx.DofOffset(1), nc, nc) + block).norm() == 0.0);
-      }
+  ForEachFrictionLaw([&](const CoulombFriction& law, const Setup& setup, bool relative) {
+    const double omega = 0.8;
+    const int nc = setup.set.NumCoefficients();
+    const Eigen::VectorXd y = StateAwayFromSwitches(law, setup, omega, rng);
+    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(y.size(), y.size());
+    Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(y.size(), y.size());
+    law.LinearizeForStability(setup.ctx, y, omega, &jacobian, &velocity);
+    const int dof = setup.ctx.DofOffset(0), own = setup.ctx.own_offset;
+    Eigen::MatrixXd fd(nc, nc);
+    for (int j = 0; j < nc; ++j) {
+      const double h = kFdStep * std::max(1.0, std::abs(y(dof + j)));
+      Eigen::VectorXd plus = y, minus = y;
+      plus(dof + j) += h;
+      minus(dof + j) -= h;
+      Eigen::VectorXd r_plus = Eigen::VectorXd::Zero(y.size()), r_minus = r_plus;
+      law.Evaluate(setup.ctx, plus, omega, r_plus, nullptr, nullptr);
+      law.Evaluate(setup.ctx, minus, omega, r_minus, nullptr, nullptr);
+      fd.col(j) = (r_plus - r_minus).segment(own, nc) / (2 * h);
     }
-  }
+    const Eigen::MatrixXd block = velocity.block(own, dof, nc, nc);
+    const Eigen::MatrixXd expected = fd * (omega * setup.fourier.DerivativeMatrix()).inverse();
+    CHECK((block - expected).norm() <= kFdTolerance * std::max(1.0, expected.norm()));
+    if (relative) {
+      CHECK((velocity.block(own, setup.ctx.DofOffset(1), nc, nc) + block).norm() == 0.0);
+    }
+  });
 }
 
 TEST_CASE("the exact laws' zero set is Coulomb's law, sliding force r = -muN sign(v)") {

@@ -15,7 +15,6 @@
 namespace nfrc {
 namespace {
 
-
 using testing::TwoDofModel;
 
 // Away from switching samples DLFT is linear in y on each sample (the mask is frozen), so
@@ -31,14 +30,33 @@ struct Setup {
   FourierTransform fourier{set};
   Condensation condensation;
   NonlinearityContext ctx;
-  Setup(std::vector<int> retained, std::vector<int> local)
-      : condensation(testing::ChainModel(), std::move(retained), set,
-                     {ForcingTerm{3, 1, 1e5, 0.0}}) {
+  // A flexible obstacle (N/m, 0: none) behind the law's first DOF.
+  Setup(std::vector<int> retained, std::vector<int> local, double obstacle_stiffness = 0.0)
+      : condensation(testing::ChainModel(), retained, set, {ForcingTerm{3, 1, 1e5, 0.0}}) {
     ctx.fourier = &fourier;
     ctx.condensation = &condensation;
     ctx.local_dofs = std::move(local);
+    if (obstacle_stiffness > 0.0) {
+      std::vector<double> compliance(retained.size(), 0.0);
+      compliance[ctx.local_dofs[0]] = 1.0 / obstacle_stiffness;
+      condensation.SetObstacleCompliance(compliance);
+    }
   }
 };
+
+// Where the law sits: the retained DOFs, the law's positions among them, its other DOF (−1:
+// ground) and the obstacle behind it.
+struct Variant {
+  const char* name;
+  std::vector<int> retained;
+  std::vector<int> local;
+  int other;
+  double obstacle_stiffness;
+};
+const Variant kVariants[] = {{"rigid, contact DOF alone", {3}, {0}, -1, 0.0},
+                             {"rigid, with another retained DOF", {1, 3}, {1}, -1, 0.0},
+                             {"flexible obstacle", {1, 3}, {1}, -1, 4e9},
+                             {"between two model DOFs", {3, 1}, {0, 1}, 1, 0.0}};
 
 // Random displacements of amplitude ~1e-4 m about a mean that puts part of each period in
 // contact, redrawn until no predicted-force sample lies within kSwitchMargin of zero.
@@ -75,25 +93,9 @@ Eigen::VectorXd StateAwayFromSwitches(const DlftContact& law, Setup& s, double o
 TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
   std::mt19937 rng(4);
   const double omega = 3.0e4;
-  struct Variant {
-    const char* name;
-    std::vector<int> retained;
-    std::vector<int> local;
-    int other;
-    double obstacle_stiffness;
-  };
-  const Variant variants[] = {{"rigid, contact DOF alone", {3}, {0}, -1, 0.0},
-                              {"rigid, with another retained DOF", {1, 3}, {1}, -1, 0.0},
-                              {"flexible obstacle", {1, 3}, {1}, -1, 4e9},
-                              {"between two model DOFs", {3, 1}, {0, 1}, 1, 0.0}};
-  for (const Variant& v : variants) {
+  for (const Variant& v : kVariants) {
     CAPTURE(v.name);
-    Setup s(v.retained, v.local);
-    if (v.obstacle_stiffness > 0.0) {
-      std::vector<double> compliance(v.retained.size(), 0.0);
-      compliance[v.local[0]] = 1.0 / v.obstacle_stiffness;
-      s.condensation.SetObstacleCompliance(compliance);
-    }
+    Setup s(v.retained, v.local, v.obstacle_stiffness);
     s.condensation.Update(omega);
     ContactGeometry geometry;
     geometry.dof = 3;
@@ -113,7 +115,6 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
   }
 }
 
-
 // Hill's method splits DLFT's Jacobian into the ε part (LinearizeForStability) and the part
 // through the condensed linear rows (LinearResidualPart, rows taken from the full model
 // there). With the condensed rows A put back, the two must give Evaluate's Jacobian (checked
@@ -121,21 +122,9 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
 TEST_CASE("DLFT contact: the stability split recomposes the Jacobian") {
   std::mt19937 rng(5);
   const double omega = 3.0e4;
-  struct Variant {
-    std::vector<int> retained, local;
-    int other;
-    double obstacle_stiffness;
-  };
-  const Variant variants[] = {{{3}, {0}, -1, 0.0},
-                              {{1, 3}, {1}, -1, 4e9},
-                              {{3, 1}, {0, 1}, 1, 0.0}};
-  for (const Variant& v : variants) {
-    Setup s(v.retained, v.local);
-    if (v.obstacle_stiffness > 0.0) {
-      std::vector<double> compliance(v.retained.size(), 0.0);
-      compliance[v.local[0]] = 1.0 / v.obstacle_stiffness;
-      s.condensation.SetObstacleCompliance(compliance);
-    }
+  for (const Variant& v : kVariants) {
+    CAPTURE(v.name);
+    Setup s(v.retained, v.local, v.obstacle_stiffness);
     s.condensation.Update(omega);
     ContactGeometry geometry;
     geometry.dof = 3;

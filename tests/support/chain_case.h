@@ -1,0 +1,25 @@
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "analysis/case.h"
+
+namespace nfrc::testing {
+
+// A chain of n unit masses (kg) and unit springs (N/m), held at both ends (k_ii = 2,
+// k_i,i±1 = −1), with damping 0.02·K: the small damped model of the system-level tests. No
+// forcing, laws or outputs yet.
+inline Case ChainCase(int n) {
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    k(i, i) = 2.0;
+    if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
+  }
+  Case c;
+  c.model.model.stiffness = k.sparseView();
+  c.model.model.mass = Eigen::MatrixXd::Identity(n, n).sparseView();
+  c.model.model.damping = (0.02 * k).sparseView();
+  return c;
+}
+
+}  // namespace nfrc::testing
