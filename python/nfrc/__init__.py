@@ -21,7 +21,8 @@ from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, Dlf
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
-           "PolynomialSpring", "Solution", "Summary", "load_case", "solve_at", "trace",
+           "PolynomialSpring", "Solution", "Summary", "load_case", "solve_at", "switch_branch",
+           "trace",
            "__version__"]
 
 LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, PenaltyContact, DlftContact, LcpContact)
@@ -232,6 +233,18 @@ def load_case(path):
 def trace(case, progress=False):
     """Traces the branch of `case`; progress=True prints a line per point on stderr."""
     branch = _nfrc._trace(case, bool(progress))
+    if branch.interrupted:
+        raise Interrupted(branch)
+    return branch
+
+
+def switch_branch(case, bifurcation, progress=False):
+    """The branch born at `bifurcation` (a period_doubling or branch_point of trace(case)):
+    the period-2 branch of a period doubling (harmonics of omega/2; branch.period_multiple is
+    2 and omega is the forcing frequency) or the other branch through a branch point, as
+    `nfrc run` writes to period2_<k>/ and branch_point_<k>/. A switch that finds no start
+    returns a branch without points whose summary says why."""
+    branch = _nfrc._switch_branch(case, bifurcation, bool(progress))
     if branch.interrupted:
         raise Interrupted(branch)
     return branch

@@ -84,6 +84,9 @@ void BindModel(py::module_& m, py::class_<PyCase>& cls);
 struct OutputNaming {
   std::vector<std::string> names;      // Case::output_names
   std::vector<std::string> dof_names;  // model DOF name of each output ("" if unnamed)
+  // ω = omega_factor·λ: Case::period_multiple (a period-m branch follows λ = ω/m), as the
+  // writers report it.
+  double omega_factor = 1.0;
   explicit OutputNaming(const Case& the_case);
   int Find(const py::handle& dof) const;  // throws InputError naming "dof"
 };

@@ -32,7 +32,7 @@ double ResponseMeasure(const PointMeasures& measures, const std::string& name, i
   return MeasureOf(SolutionMeasures{measures, {}, {}, {}}, name, output);
 }
 
-OutputNaming::OutputNaming(const Case& c) : names(c.output_names) {
+OutputNaming::OutputNaming(const Case& c) : names(c.output_names), omega_factor(c.period_multiple) {
   for (int dof : c.output_dofs) {
     const auto& all = c.model.model.dof_names;
     dof_names.push_back(dof < static_cast<int>(all.size()) ? all[dof] : std::string());
@@ -102,11 +102,13 @@ void BindResults(py::module_& m) {
       });
 
   py::class_<FoldView>(m, "Fold", "A turning point in omega.")
-      .def_property_readonly("omega", [](const FoldView& f) { return f.record.fold.lambda; })
+      .def_property_readonly(
+          "omega", [](const FoldView& f) { return f.naming->omega_factor * f.record.fold.lambda; })
       .def_property_readonly("after_point",
                              [](const FoldView& f) { return f.record.fold.after_point; })
-      .def_property_readonly("omega_accuracy",
-                             [](const FoldView& f) { return f.record.fold.lambda_accuracy; })
+      .def_property_readonly(
+          "omega_accuracy",
+          [](const FoldView& f) { return f.naming->omega_factor * f.record.fold.lambda_accuracy; })
       .def_property_readonly("converged", [](const FoldView& f) { return f.record.fold.converged; })
       .def_property_readonly("y", [](const FoldView& f) { return f.record.fold.y; })
       .def(
@@ -121,7 +123,8 @@ void BindResults(py::module_& m) {
       });
 
   py::class_<SolutionView>(m, "Solution", "One periodic solution at a given omega.")
-      .def_property_readonly("omega", [](const SolutionView& s) { return s.signals.omega; })
+      .def_property_readonly(
+          "omega", [](const SolutionView& s) { return s.naming->omega_factor * s.signals.omega; })
       .def_property_readonly("after_point",
                              [](const SolutionView& s) { return s.signals.after_point; })
       .def_readonly("label", &SolutionView::label)

@@ -78,9 +78,11 @@ void BindStability(py::module_& m) {
   py::class_<BifurcationView>(m, "Bifurcation", "A change of stability along a branch.")
       .def_property_readonly("type",
                              [](const BifurcationView& b) { return ToString(b.record.type); })
-      .def_property_readonly("omega", [](const BifurcationView& b) { return b.record.omega; })
-      .def_property_readonly("omega_accuracy",
-                             [](const BifurcationView& b) { return b.record.omega_accuracy; })
+      .def_property_readonly(
+          "omega", [](const BifurcationView& b) { return b.naming->omega_factor * b.record.omega; })
+      .def_property_readonly(
+          "omega_accuracy",
+          [](const BifurcationView& b) { return b.naming->omega_factor * b.record.omega_accuracy; })
       .def_property_readonly("converged",
                              [](const BifurcationView& b) { return b.record.converged; })
       .def_property_readonly("iterations",

@@ -5,6 +5,7 @@
 
 #include <iostream>
 
+#include "analysis/branch_switching.h"
 #include "bindings.h"
 
 namespace nfrc::python {
@@ -52,7 +53,8 @@ void BindTrace(py::module_& m) {
                              [](const BranchView& b) {
                                Eigen::VectorXd omega(b.result.points.size());
                                for (size_t i = 0; i < b.result.points.size(); ++i) {
-                                 omega(i) = b.result.points[i].point.lambda;
+                                 omega(i) =
+                                     b.naming->omega_factor * b.result.points[i].point.lambda;
                                }
                                return omega;
                              })
@@ -97,6 +99,22 @@ void BindTrace(py::module_& m) {
                                }
                                return found;
                              })
+      .def_property_readonly(
+          "quasi_periodic_windows",
+          [](const BranchView& b) {
+            py::list windows;
+            const double f = b.naming->omega_factor;
+            for (const QuasiPeriodicWindow& w : b.result.quasi_periodic_windows) {
+              windows.append(py::dict("omega_from"_a = f * w.omega_from,
+                                      "omega_to"_a = f * w.omega_to,
+                                      "first_point"_a = w.first_point,
+                                      "last_point"_a = w.last_point, "closed"_a = w.closed));
+            }
+            return windows;
+          })
+      .def_property_readonly(
+          "period_multiple",
+          [](const BranchView& b) { return static_cast<int>(b.naming->omega_factor); })
       .def_property_readonly("solutions",
                              [](const BranchView& b) {
                                std::vector<SolutionView> solutions;
@@ -135,6 +153,27 @@ void BindTrace(py::module_& m) {
         return branch;
       },
       "case"_a, "progress"_a = false);
+
+  m.def(
+      "_switch_branch",
+      [](const PyCase& c, const BifurcationView& bifurcation, bool progress) {
+        const Case the_case = c.value;
+        InterruptWatch watch;
+        TraceOptions options;
+        options.progress = progress ? &std::cerr : nullptr;
+        options.stop = watch.stop();
+        options.observer = &watch;
+        SwitchedBranch switched;
+        {
+          py::gil_scoped_release release;
+          switched = FollowBifurcation(the_case, bifurcation.record, options);
+        }
+        BranchView branch{std::move(switched.trace),
+                          std::make_shared<OutputNaming>(switched.the_case), false};
+        branch.interrupted = watch.Finish();
+        return branch;
+      },
+      "case"_a, "bifurcation"_a, "progress"_a = false);
 }
 
 }  // namespace nfrc::python

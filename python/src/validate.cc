@@ -1,6 +1,7 @@
 // nfrc.validate: the HBM branch checked against transient integration at chosen ω.
 #include "analysis/validate.h"
 
+#include <pybind11/complex.h>
 #include <pybind11/stl.h>
 
 #include <iostream>
@@ -52,10 +53,29 @@ py::dict TransientDict(const ValidationPoint& point, const TransientRun& run) {
 
 py::dict PointDict(const ValidationPoint& point) {
   py::list solutions;
-  for (const CrossingSolution& s : point.solutions) {
+  for (size_t i = 0; i < point.solutions.size(); ++i) {
+    const CrossingSolution& s = point.solutions[i];
     const PointMeasures& m = s.signals.measures.response;
-    solutions.append(py::dict("label"_a = s.label, "max_abs"_a = m.max_abs, "h1"_a = m.h1,
-                              "energy"_a = m.energy));
+    py::dict solution("label"_a = s.label, "max_abs"_a = m.max_abs, "h1"_a = m.h1,
+                      "energy"_a = m.energy);
+    if (i < point.stability.size()) {
+      const SolutionStability& stability = point.stability[i];
+      // Hill's multipliers (a Floquet) and the transient monodromy's, as validation.json has
+      // them; None when not computed.
+      solution["hill"] = stability.hill.computed ? py::cast(stability.hill) : py::none();
+      if (stability.monodromy) {
+        const MonodromyResult& mono = *stability.monodromy;
+        solution["monodromy"] =
+            py::dict("ok"_a = mono.ok, "message"_a = mono.message,
+                     "multipliers"_a = mono.multipliers, "max_modulus"_a = mono.max_modulus(),
+                     "closure"_a = mono.closure, "integrations"_a = mono.integrations);
+      } else {
+        solution["monodromy"] = py::none();
+      }
+      solution["difference_to_monodromy"] =
+          stability.multiplier_difference ? py::cast(*stability.multiplier_difference) : py::none();
+    }
+    solutions.append(std::move(solution));
   }
   py::list transients;
   for (const TransientRun& run : point.transients) transients.append(TransientDict(point, run));

@@ -135,3 +135,41 @@ def test_nfrc_run_writes_what_python_reads(build_dir, tmp_path):
     assert [b["type"] for b in written["bifurcations"]] == [b.type for b in branch.bifurcations]
     header = (out / "branch.csv").read_text().splitlines()[0].split(",")
     assert header[-3:] == ["stable", "max_multiplier", "unstable"]
+
+
+def test_switch_branch_follows_the_period_doubling_in_forcing_frequency(source_dir):
+    """The escape oscillator's period doubling (the C++ branch_switching test checks the
+    period-2 orbit against a transient): here, that Python gets the same branch, with omega
+    as the forcing frequency (2 x the continuation parameter) and the next doubling on it."""
+    case = nfrc.load_case(source_dir / "cases/escape_oscillator.json")
+    branch = nfrc.trace(case)
+    doublings = [b for b in branch.bifurcations if b.type == "period_doubling"]
+    assert len(doublings) == 1
+    pd = doublings[0]
+    period2 = nfrc.switch_branch(case, pd)
+    assert period2.period_multiple == 2
+    assert period2.summary.success
+    # It starts 0.2 % beside the doubling, on the side where period 1 is unstable.
+    assert pd.omega * 0.99 < period2.omega[0] < pd.omega
+    assert all(np.diff(period2.omega) < 0)
+    again = [b for b in period2.bifurcations if b.type == "period_doubling"]
+    assert again and again[0].omega < pd.omega
+    assert period2.quasi_periodic_windows == []
+    with pytest.raises(nfrc.InputError, match="bifurcation: a fold"):
+        duffing = nfrc.load_case(source_dir / "cases/duffing.json")
+        nfrc.switch_branch(duffing, nfrc.trace(duffing).bifurcations[0])
+
+
+def test_validate_reports_hill_next_to_the_transient_monodromy(source_dir):
+    """Duffing inside its fold: three solutions, the middle one unstable by both methods,
+    and Hill within 1e-6 of the monodromy (the bar of the C++ stability test)."""
+    case = nfrc.load_case(source_dir / "cases/duffing.json")
+    result = nfrc.validate(case, omegas=[1.2])
+    solutions = result["points"][0]["solutions"]
+    assert len(solutions) == 3
+    for s in solutions:
+        assert isinstance(s["hill"], nfrc.Floquet) and s["monodromy"]["ok"]
+        assert s["difference_to_monodromy"] < 1e-6
+        transient_stable = s["monodromy"]["max_modulus"] < 1.0
+        assert s["hill"].stable == transient_stable
+    assert [s["hill"].stable for s in solutions].count(False) == 1
