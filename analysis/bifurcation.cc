@@ -1,5 +1,6 @@
 #include "analysis/bifurcation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -9,6 +10,10 @@
 
 namespace nfrc {
 namespace {
+
+// A localised crossing whose multipliers are still this far from |μ| = 1 once ω is pinned to
+// bifurcation_tolerance jumped across the circle (a smooth crossing passes through it).
+constexpr double kJumpModulus = 0.05;
 
 using Complex = std::complex<double>;
 
@@ -146,6 +151,13 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
       bifurcation.converged = true;
       break;
     }
+  }
+  if (bifurcation.converged) {
+    double off_circle = std::numeric_limits<double>::infinity();
+    for (const Complex& mu : bifurcation.crossing_multipliers) {
+      off_circle = std::min(off_circle, std::abs(std::abs(mu) - 1.0));
+    }
+    bifurcation.discontinuous = off_circle > kJumpModulus;
   }
   return bifurcation;
 }

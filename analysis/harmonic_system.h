@@ -30,6 +30,10 @@ class HarmonicSystem : public ContinuationProblem {
   // Group 0: displacement coefficients (and own unknowns in metres); group i + 1: own
   // unknowns of law i.
   std::vector<int> ScaleGroups() const override;
+  // Displacement coefficients weigh 1, the laws' own unknowns less (kOwnUnknownStepWeight):
+  // the curve a user reads is the motion's, while a law's own unknowns (a friction force's
+  // harmonics) jump at every sample that switches branch and shrink the step at each kink.
+  Eigen::VectorXd StepWeights() const override;
 
   // The linear response x = Z_red⁻¹ F_red at ω with the laws' own starting values.
   // Throws InputError if the linear dynamic stiffness is singular there.

@@ -20,9 +20,11 @@ using Complex = std::complex<double>;
 // The real shift of shift-invert, as a fraction of ω: off the imaginary axis so that the
 // exponent 0 of a fold does not make the shifted Hill matrix singular.
 constexpr double kShiftFraction = 1e-2;
-// ν = 1/(s − σ) below this fraction of the largest |ν| is an infinite exponent (algebraic
-// rows); finite copies s + ikω have |ν| ≳ 1/(Hω), many orders above.
-constexpr double kInfiniteRatio = 1e-10;
+// An exponent with |s − σ| above this many (H + 1)·ω lies beyond the band Hill's truncated
+// matrix resolves: it is an infinite exponent of the algebraic rows (massless DOFs, a
+// friction law's stick constraint v = 0, which is of index 2) that rounding made finite.
+// Seen on the one-DOF Coulomb oscillator in stick-slip at |s| ≈ 1e3–1e6·ω.
+constexpr double kBandFactor = 10.0;
 // Copies s + ikω of one family share Re s and Im s modulo ω up to the truncation of Hill's
 // matrix (1e-4·ω seen on the rod at H = 20); two candidates that agree to this fraction of ω
 // are one family (their multipliers agree to 2π·1e-3 ≈ 0.6 %). Distinct physical multipliers
@@ -333,10 +335,10 @@ void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
 // Candidates (finite eigenvalues with their centroids) from eigenpairs ν, z of the operator.
 void AddCandidates(const Eigen::VectorXcd& nu, const Eigen::MatrixXcd& vectors, double sigma,
                    const HillPencil& pencil, std::vector<Candidate>* candidates) {
-  const double largest = nu.cwiseAbs().maxCoeff();
+  const double band = kBandFactor * (pencil.set.max_harmonic() + 1) * pencil.omega;
   const int n = static_cast<int>(pencil.d0.rows());
   for (Eigen::Index i = 0; i < nu.size(); ++i) {
-    if (std::abs(nu(i)) <= kInfiniteRatio * largest) continue;
+    if (std::abs(nu(i)) * band <= 1.0) continue;
     double weight = 0.0, edge = 0.0;
     const double centroid = Centroid(vectors.col(i).head(n), pencil, &weight, &edge);
     if (weight <= 0.0) continue;  // no displacement: an algebraic mode

@@ -38,7 +38,7 @@ struct HillOptions {
   double unstable_tolerance = 1e-6;
   // Linearised pencils up to this size are solved whole (dense); larger ones by shift-invert
   // Arnoldi (Spectra) for the exponents nearest the imaginary axis.
-  int dense_limit = 240;
+  int dense_limit = 60;
 };
 
 // The Floquet exponents and multipliers of a pencil. The pencil is linearised on

@@ -93,6 +93,15 @@ class Continuer {
     if (static_cast<int>(groups_.size()) != evaluator_.num_unknowns()) {
       throw std::invalid_argument("ContinuationProblem: ScaleGroups() size != NumUnknowns()");
     }
+    const Eigen::VectorXd weights = problem.StepWeights();
+    if (weights.size() != 0) {
+      if (weights.size() != evaluator_.num_unknowns() || (weights.array() < 0.0).any()) {
+        throw std::invalid_argument(
+            "ContinuationProblem: StepWeights() size != NumUnknowns() or a weight < 0");
+      }
+      turn_weights_.resize(weights.size() + 1);
+      turn_weights_ << weights, 1.0;
+    }
     settings_.max_iterations = options.max_newton_iterations;
     settings_.update_tolerance = options.newton_tolerance;
     settings_.residual_tolerance = options.residual_tolerance;
@@ -219,7 +228,7 @@ class Continuer {
                      &new_tangent)) {
       return Reject(std::move(record), "no tangent at the corrected point");
     }
-    const double angle = std::acos(std::clamp(new_tangent.dot(tangent_scaled), -1.0, 1.0));
+    const double angle = TurnAngle(tangent_scaled, new_tangent);
     if (angle > options_.max_tangent_angle) {
       // On a smooth branch the turn shrinks with the step; on a nonsmooth one (a sample of a
       // piecewise law switching branch) the tangent jumps by the same angle however short
@@ -291,6 +300,20 @@ class Continuer {
     angle_rejection_.reset();
     Accept(std::move(record), point, solved.u, new_tangent);
     return controller_.AfterSuccess(h, solved.iterations, 0.0);
+  }
+
+  // Angle between two unit scaled tangents, in the problem's step weights when it has them
+  // (a weighted tangent that vanishes, e.g. a step moving only unweighted unknowns, falls
+  // back to the plain angle).
+  double TurnAngle(const Eigen::VectorXd& from, const Eigen::VectorXd& to) const {
+    double cosine = from.dot(to);
+    if (turn_weights_.size() != 0) {
+      const Eigen::VectorXd a = from.cwiseProduct(turn_weights_);
+      const Eigen::VectorXd b = to.cwiseProduct(turn_weights_);
+      const double norms = a.norm() * b.norm();
+      if (norms > 0.0) cosine = a.dot(b) / norms;
+    }
+    return std::acos(std::clamp(cosine, -1.0, 1.0));
   }
 
   // Records an accepted step and its point, then checks the stop rules.
@@ -389,6 +412,7 @@ class Continuer {
   const ContinuationOptions& options_;
   ContinuationObserver* observer_;
   std::vector<int> groups_;
+  Eigen::VectorXd turn_weights_;  // StepWeights() and 1 for λ; empty = unweighted
   Scaling scaling_;
   StepController controller_;
   ProgressReporter progress_;

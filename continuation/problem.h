@@ -22,6 +22,12 @@ class ContinuationProblem {
   // Scale group of each unknown: unknowns of one group share one physical unit and one
   // scale (e.g. displacement coefficients vs force coefficients). Default: one group.
   virtual std::vector<int> ScaleGroups() const { return std::vector<int>(NumUnknowns(), 0); }
+
+  // Weight of each unknown in the tangent-turn test that limits the step (default: empty,
+  // all 1). Unknowns that jump at every kink of a nonsmooth branch without shaping the curve
+  // (the top harmonics of a friction force) can be weighed down, so that the step follows
+  // the curvature of the smooth pieces instead of shrinking at each kink.
+  virtual Eigen::VectorXd StepWeights() const { return {}; }
 };
 
 }  // namespace nfrc

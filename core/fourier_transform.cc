@@ -1,22 +1,66 @@
 #include "core/fourier_transform.h"
 
+#include <fftw3.h>
+
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
-#include <unsupported/Eigen/FFT>
 #include <vector>
 
 namespace nfrc {
 
-// Unscaled half-spectrum real FFT: fwd gives Y_m = Σ_j x_j e^{−2πi jm/N} for m ≤ N/2, inv
-// takes Y_0..Y_{N/2} and returns x_j = Σ_{m=0}^{N−1} Y_m e^{2πi jm/N} (Hermitian extension).
+namespace {
+
+// FFTW's planner is not thread-safe (its execute is): plans are made and destroyed under this.
+std::mutex& PlannerMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+}  // namespace
+
+// Unscaled half-spectrum real FFT by FFTW: Forward gives Y_m = Σ_j x_j e^{−2πi jm/N} for
+// m ≤ N/2, Inverse takes Y_0..Y_{N/2} and returns x_j = Σ_{m=0}^{N−1} Y_m e^{2πi jm/N}
+// (Hermitian extension). Plans are unaligned so that they run on any Eigen column.
 struct FourierTransform::FftState {
-  Eigen::FFT<double> fft{Eigen::FFT<double>::impl_type(),
-                         static_cast<Eigen::FFT<double>::Flag>(Eigen::FFT<double>::Unscaled |
-                                                               Eigen::FFT<double>::HalfSpectrum)};
+  explicit FftState(int n) : n_t(n), spectrum(n / 2 + 1, 0.0) {
+    std::vector<double> samples(n);
+    auto* bins = reinterpret_cast<fftw_complex*>(spectrum.data());
+    const unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+    std::lock_guard<std::mutex> lock(PlannerMutex());
+    forward = fftw_plan_dft_r2c_1d(n, samples.data(), bins, flags);
+    // c2r overwrites its input: it always runs on `spectrum`, which callers refill.
+    inverse = fftw_plan_dft_c2r_1d(n, bins, samples.data(), flags | FFTW_DESTROY_INPUT);
+    if (forward == nullptr || inverse == nullptr) {
+      throw std::runtime_error("FourierTransform: FFTW could not plan N_t = " + std::to_string(n));
+    }
+  }
+  ~FftState() {
+    std::lock_guard<std::mutex> lock(PlannerMutex());
+    fftw_destroy_plan(forward);
+    fftw_destroy_plan(inverse);
+  }
+  FftState(const FftState&) = delete;
+  FftState& operator=(const FftState&) = delete;
+
+  // spectrum ← FFT of x (N_t samples).
+  void Forward(const double* x) {
+    fftw_execute_dft_r2c(forward, const_cast<double*>(x),
+                         reinterpret_cast<fftw_complex*>(spectrum.data()));
+  }
+  // x ← inverse FFT of spectrum (spectrum is overwritten).
+  void Inverse(double* x) {
+    fftw_execute_dft_c2r(inverse, reinterpret_cast<fftw_complex*>(spectrum.data()), x);
+  }
+
+  int n_t;
   std::vector<std::complex<double>> spectrum;
+  fftw_plan forward = nullptr;
+  fftw_plan inverse = nullptr;
 };
 
 namespace {
@@ -33,10 +77,9 @@ void CheckShape(const char* name, Eigen::Index rows, Eigen::Index cols, Eigen::I
 }  // namespace
 
 FourierTransform::FourierTransform(const HarmonicSet& set)
-    : set_(set), fft_(std::make_unique<FftState>()) {
+    : set_(set), fft_(std::make_unique<FftState>(set.num_samples())) {
   const int n_t = set_.num_samples();
   const int n_c = set_.NumCoefficients();
-  fft_->spectrum.assign(n_t / 2 + 1, 0.0);
 
   derivative_matrix_.setZero(n_c, n_c);
   sample_matrix_.resize(n_t, n_c);
@@ -84,7 +127,7 @@ void FourierTransform::ToTime(const Eigen::Ref<const Eigen::MatrixXd>& coefficie
       spectrum[k] = k == 0 ? std::complex<double>(a, 0.0)
                            : 0.5 * std::complex<double>(a, -coefficients(set_.SinIndex(p), col));
     }
-    fft_->fft.inv(samples.col(col).data(), spectrum.data(), n_t);
+    fft_->Inverse(samples.col(col).data());
   }
 }
 
@@ -104,7 +147,7 @@ void FourierTransform::ToCoefficients(const Eigen::Ref<const Eigen::MatrixXd>& s
   auto& spectrum = fft_->spectrum;
   for (Eigen::Index col = 0; col < samples.cols(); ++col) {
     // Columns of a Ref are contiguous (unit inner stride), so the FFT reads them in place.
-    fft_->fft.fwd(spectrum.data(), samples.col(col).data(), n_t);
+    fft_->Forward(samples.col(col).data());
     for (int p = 0; p < set_.num_harmonics(); ++p) {
       const int k = set_.harmonics()[p];
       if (k == 0) {
@@ -150,7 +193,7 @@ Eigen::MatrixXd FourierTransform::WeightedProduct(
   const int n_t = set_.num_samples();
   CheckShape("weights", weights.rows(), weights.cols(), n_t, 1);
   auto& spectrum = fft_->spectrum;
-  fft_->fft.fwd(spectrum.data(), weights.data(), n_t);
+  fft_->Forward(weights.data());
   // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
   // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry).
   auto cos_sum = [&](int m) {

@@ -92,6 +92,7 @@ nlohmann::json BifurcationToJson(const Bifurcation& bifurcation, double factor) 
           {"iterations", bifurcation.iterations},
           {"after_point", bifurcation.after_point},
           {"crossing_multipliers", ComplexListToJson(bifurcation.crossing_multipliers)},
+          {"discontinuous", bifurcation.discontinuous},
           {"energy", m.energy},
           {"max_abs", m.max_abs},
           {"min", m.min},

@@ -89,6 +89,8 @@ void BindStability(py::module_& m) {
                              [](const BifurcationView& b) { return b.record.iterations; })
       .def_property_readonly("after_point",
                              [](const BifurcationView& b) { return b.record.after_point; })
+      .def_property_readonly("discontinuous",
+                             [](const BifurcationView& b) { return b.record.discontinuous; })
       .def_property_readonly("crossing_multipliers",
                              [](const BifurcationView& b) { return b.record.crossing_multipliers; })
       .def_property_readonly("y", [](const BifurcationView& b) { return b.record.y; })
