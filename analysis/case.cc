@@ -70,11 +70,13 @@ ProblemSize EstimateSize(const ProblemDimensions& d) {
   size.bytes = 8.0 * (kDenseCopies * unknowns * unknowns + 2.0 * coefficients * samples +
                       2.0 * d.num_dofs * d.num_retained * harmonics +
                       (signals + d.sample_blocks) * samples * 4.0);
-  // Dense LU of the Newton matrix, the laws' Jacobian blocks Eᵀ diag(f') E (coefficients² per
-  // sample and signal), the sparse condensation per harmonic and retained DOF.
-  size.work_per_step = unknowns * unknowns * unknowns / 3.0 +
-                       signals * coefficients * coefficients * samples +
-                       kCondensationFlopPerDof * d.num_dofs * harmonics * d.num_retained;
+  // Dense LU of the Newton matrix, the laws' Jacobian blocks P diag(f') E (by product-to-sum
+  // from one FFT of f': coefficients² + FFT per signal), the sparse condensation per harmonic
+  // and retained DOF.
+  size.work_per_step =
+      unknowns * unknowns * unknowns / 3.0 +
+      signals * (coefficients * coefficients + 5.0 * samples * std::log2(samples)) +
+      kCondensationFlopPerDof * d.num_dofs * harmonics * d.num_retained;
   size.total_work = d.points * size.work_per_step;
   return size;
 }

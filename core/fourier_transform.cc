@@ -188,6 +188,25 @@ void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& co
   }
 }
 
+Eigen::MatrixXd FourierTransform::TimesDerivative(
+    const Eigen::Ref<const Eigen::MatrixXd>& m) const {
+  CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
+  Eigen::MatrixXd product(m.rows(), m.cols());
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    const int ic = set_.CosIndex(p);
+    if (k == 0) {
+      product.col(ic).setZero();
+      continue;
+    }
+    const int is = set_.SinIndex(p);
+    // D(ic, is) = k and D(is, ic) = −k are its only entries in these columns.
+    product.col(is) = k * m.col(ic);
+    product.col(ic) = -k * m.col(is);
+  }
+  return product;
+}
+
 Eigen::MatrixXd FourierTransform::WeightedProduct(
     const Eigen::Ref<const Eigen::VectorXd>& weights) const {
   const int n_t = set_.num_samples();

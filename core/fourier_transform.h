@@ -37,6 +37,8 @@ class FourierTransform {
                      Eigen::Ref<Eigen::MatrixXd> derivative) const;
   // The same operator as a dense NumCoefficients()² matrix D.
   const Eigen::MatrixXd& DerivativeMatrix() const { return derivative_matrix_; }
+  // m·D by column operations, O(rows · n_c) where the dense product costs O(rows · n_c²).
+  Eigen::MatrixXd TimesDerivative(const Eigen::Ref<const Eigen::MatrixXd>& m) const;
 
   // Dense equivalents for assembling Jacobians: samples = E·c (N_t × n_c) and
   // c = P·samples (n_c × N_t), with P·E = I. A nonlinearity f(x) sampled in time has

@@ -81,7 +81,7 @@ void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
     }
     // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E.
     const Eigen::MatrixXd d_velocity =
-        fourier.WeightedProduct(psi_v) * (omega * fourier.DerivativeMatrix());
+        omega * fourier.TimesDerivative(fourier.WeightedProduct(psi_v));
     jacobian->block(row_own, row_dof, nc, nc) += d_velocity;
     if (row_other >= 0) jacobian->block(row_own, row_other, nc, nc) -= d_velocity;
     jacobian->block(row_own, row_own, nc, nc) += fourier.WeightedProduct(psi_r);

@@ -21,6 +21,9 @@
 //      (TraceCase, measures included) with stability off and on, and Hill's time per point
 //      against the trace's, for Duffing, the friction FRC at N_φ = 60 and 160 (the latter
 //      on its first 60 points), the rigid-obstacle rod and the rod against 4 k_rod.
+//   9. the speed issue's acceptance cases (tools/bench_acceptance.h), each whole with
+//      stability on and in its own process: ms, LU(320), the budget, points, Newton, peak
+//      memory; `nfrc_bench 9 accuracy` adds each curve's accuracy against a tenth of the step.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -39,6 +42,7 @@
 #include "core/condensation.h"
 #include "models/damping.h"
 #include "models/rod.h"
+#include "tools/bench_acceptance.h"
 #include "tools/case_file.h"
 #include "validation/make_integrator.h"
 
@@ -434,7 +438,14 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
 // usage: nfrc_bench [SECTION ...] runs the numbered sections above (default: all).
 int main(int argc, char** argv) {
   std::vector<int> sections;
-  for (int i = 1; i < argc; ++i) sections.push_back(std::atoi(argv[i]));
+  bool accuracy = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "accuracy") {
+      accuracy = true;
+    } else {
+      sections.push_back(std::atoi(argv[i]));
+    }
+  }
   auto run = [&](int section) {
     return sections.empty() ||
            std::find(sections.begin(), sections.end(), section) != sections.end();
@@ -466,5 +477,6 @@ int main(int argc, char** argv) {
     BenchStability("rod/rigid_nh20.json", 0, 0);
     BenchStability("rod/flexible_4krod.json", 0, 0);
   }
+  if (run(9)) nfrc::bench::BenchAcceptance(g_lu_unit, accuracy);
   return 0;
 }

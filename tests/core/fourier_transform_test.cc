@@ -148,6 +148,10 @@ TEST_CASE("FourierTransform differentiates like the analytic signal") {
     // x' samples reach ~100 (k·a_k summed), so the absolute bound scales up accordingly.
     CHECK((transform.ToTime(dc) - x_prime).cwiseAbs().maxCoeff() < kTol * 100);
     CHECK((transform.DerivativeMatrix() * c - dc).cwiseAbs().maxCoeff() == 0.0);
+    // m·D by column operations equals the dense product exactly (one product per entry).
+    const Eigen::MatrixXd m = Eigen::MatrixXd::Random(3, set.NumCoefficients());
+    CHECK((transform.TimesDerivative(m) - m * transform.DerivativeMatrix()).cwiseAbs().maxCoeff() ==
+          0.0);
     // D² = −k² on each harmonic.
     Eigen::VectorXd ddc(set.NumCoefficients());
     transform.Differentiate(dc, ddc);

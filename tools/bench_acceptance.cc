@@ -1,0 +1,136 @@
+#include "tools/bench_acceptance.h"
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "analysis/curve_accuracy.h"
+#include "analysis/trace.h"
+#include "tools/case_file.h"
+
+namespace nfrc::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// What the curve's accuracy is judged on: the papers plot the friction curves' energy on a
+// log axis and the contact curves' max |x| of the output DOFs.
+enum class Plotted { kLogEnergy, kMaxAbs };
+
+struct AcceptanceCase {
+  const char* file;  // under cases/
+  Plotted plotted;
+  double budget_lu;  // the budget in LU(320); 0 = "unchanged or faster"
+};
+
+PlottedCurve Curve(const TraceResult& trace, Plotted plotted) {
+  PlottedCurve curve;
+  curve.log_scale = plotted == Plotted::kLogEnergy;
+  for (const TracePoint& p : trace.points) {
+    curve.omega.push_back(p.point.lambda);
+    const PointMeasures& m = p.measures.response;
+    const std::vector<double> values =
+        plotted == Plotted::kLogEnergy ? std::vector<double>{m.energy} : m.max_abs;
+    curve.measures.resize(values.size());
+    for (size_t j = 0; j < values.size(); ++j) curve.measures[j].push_back(values[j]);
+  }
+  return curve;
+}
+
+// The reference of the accuracy figure: the same case with a tenth of the maximum step
+// (first step no longer than it), stability off (it does not change the curve).
+double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
+  ContinuationOptions& options = the_case.continuation;
+  options.max_step /= 10.0;
+  options.initial_step = std::min(options.initial_step, options.max_step);
+  options.min_step = std::min(options.min_step, 0.1 * options.initial_step);
+  options.max_points *= 20;
+  the_case.stability.enabled = false;
+  const TraceResult reference = TraceCase(the_case);
+  return CurveDeviation(Curve(reference, plotted), Curve(trace, plotted));
+}
+
+void RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + c.file);
+  the_case.stability.enabled = true;
+  const auto start = Clock::now();
+  const TraceResult trace = TraceCase(the_case);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const ContinuationSummary& s = trace.branch.summary;
+  std::printf("%s: %s, %zu points, %d unknowns, %d Newton, %zu bifurcations\n", c.file,
+              ToString(s.reason), trace.points.size(), trace.num_unknowns,
+              s.total_newton_iterations, trace.bifurcations.size());
+  std::printf("  wall time %.1f ms = %.1f LU(320)", 1e3 * seconds, seconds / lu_unit);
+  if (c.budget_lu > 0.0) std::printf("  (budget %.0f LU(320))", c.budget_lu);
+  std::printf("\n");
+  if (accuracy) {
+    std::printf("  accuracy %.2e against a tenth of the step\n",
+                Accuracy(the_case, trace, c.plotted));
+  }
+  std::fflush(stdout);
+}
+
+// One friction point at N_φ = 640 (harmonics 1, 3, …, 1279; 1 280 unknowns): the start
+// solve at ω = 0.75 of the two-DOF oscillator, N = 10.
+void RunFineFrictionPoint(double lu_unit) {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/friction/point_e.json");
+  the_case.harmonics = HarmonicSet(1279, true);
+  the_case.continuation.lambda_start = 0.75;
+  the_case.continuation.max_points = 1;
+  the_case.stability.enabled = true;
+  const auto start = Clock::now();
+  const TraceResult trace = TraceCase(the_case);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf("friction point at N_phi = 640, omega = 0.75: %s, %d unknowns, %d Newton\n",
+              ToString(trace.branch.summary.reason), trace.num_unknowns,
+              trace.branch.summary.total_newton_iterations);
+  std::printf("  wall time %.1f ms = %.1f LU(320)  (budget 200 LU(320))\n", 1e3 * seconds,
+              seconds / lu_unit);
+  std::fflush(stdout);
+}
+
+// Runs `body` in a child and prints the child's peak resident memory.
+template <typename Body>
+void InChild(Body body) {
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    body();
+    std::fflush(stdout);
+    _exit(0);
+  }
+  int status = 0;
+  rusage usage{};
+  if (pid < 0 || wait4(pid, &status, 0, &usage) != pid) {
+    std::printf("  (could not run in a child process)\n");
+    return;
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("  (child failed)\n");
+  std::printf("  peak memory %.1f MB\n", usage.ru_maxrss / 1024.0);  // ru_maxrss is in KiB
+}
+
+}  // namespace
+
+void BenchAcceptance(double lu_unit, bool accuracy) {
+  const std::vector<AcceptanceCase> cases = {
+      {"duffing.json", Plotted::kMaxAbs, 0.0},
+      {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
+      {"contact/nlvib_penalty.json", Plotted::kMaxAbs, 30.0},
+      {"friction/frc_n8.json", Plotted::kLogEnergy, 40.0},
+      {"friction/frc_n10.json", Plotted::kLogEnergy, 40.0},
+      {"friction/frc_n10_5.json", Plotted::kLogEnergy, 40.0},
+      {"friction/frc_n11.json", Plotted::kLogEnergy, 40.0},
+      {"rod/rigid_nh20.json", Plotted::kMaxAbs, 60.0},
+      {"friction/point_e.json", Plotted::kLogEnergy, 700.0},
+  };
+  for (const AcceptanceCase& c : cases) InChild([&] { RunCase(c, lu_unit, accuracy); });
+  InChild([&] { RunFineFrictionPoint(lu_unit); });
+}
+
+}  // namespace nfrc::bench
