@@ -247,6 +247,8 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
     }
   }();
   const Eigen::MatrixXd psi = -op.Solve(Eigen::MatrixXd(k_ib));  // ni × nb
+  report.factor_s = Seconds(start);
+  const auto modes_start = std::chrono::steady_clock::now();
 
   Eigen::MatrixXd phi;
   Eigen::VectorXd lambda;
@@ -274,6 +276,7 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
   }
   const int m = static_cast<int>(lambda.size());
   report.modes = m;
+  report.modes_s = Seconds(modes_start);
   for (Eigen::Index j = 0; j < m; ++j) {
     report.fixed_interface_frequencies.push_back(std::sqrt(std::max(0.0, lambda(j))));
   }

@@ -48,6 +48,8 @@ struct ReductionReport {
   int boundary_dofs = 0;
   int modes = 0;
   double time_s = 0.0;        // factorisation, constraint modes, eigenmodes, projection
+  double factor_s = 0.0;      // of which: the K_ii split and its Cholesky factorisation
+  double modes_s = 0.0;       //           the fixed-interface modes (Lanczos)
   double check_time_s = 0.0;  // the full model's eigenfrequencies for the check
   std::vector<double> fixed_interface_frequencies;  // rad/s, ascending
   std::vector<EigenfrequencyCheck> eigenfrequencies;
