@@ -236,30 +236,32 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
   report.full_dofs = n;
   report.boundary_dofs = nb;
 
-  // One factor of K_ii: constraint modes and the fixed-interface eigenproblem (σ = 0).
-  CholmodShiftInvert op = [&] {
+  // One factor of K_ii: constraint modes and the fixed-interface eigenproblem (σ = 0). Freed
+  // before the check factorises the full K (two Cholesky factors at once would double the peak
+  // memory).
+  auto op = [&] {
     try {
-      return CholmodShiftInvert(k_ii, m_ii, 0.0);
+      return std::make_unique<CholmodShiftInvert>(k_ii, m_ii, 0.0);
     } catch (const std::runtime_error&) {
       throw std::runtime_error(
           "the interior stiffness K_ii is not positive definite: the boundary DOFs and the "
           "model's clamps must remove every rigid-body motion of the interior");
     }
   }();
-  const Eigen::MatrixXd psi = -op.Solve(Eigen::MatrixXd(k_ib));  // ni × nb
+  const Eigen::MatrixXd psi = -op->Solve(Eigen::MatrixXd(k_ib));  // ni × nb
   report.factor_s = Seconds(start);
   const auto modes_start = std::chrono::steady_clock::now();
 
   Eigen::MatrixXd phi;
   Eigen::VectorXd lambda;
   if (options.modes >= 0) {
-    lambda = Lowest(op, k_ii, m_ii, options.modes, &phi);
+    lambda = Lowest(*op, k_ii, m_ii, options.modes, &phi);
   } else {
     // Every mode below the band: batches doubling until one lies above it.
     const double limit = std::pow(kBandFactor * options.max_frequency, 2);
     int batch = std::min(kFirstBandBatch, ni);
     while (true) {
-      lambda = Lowest(op, k_ii, m_ii, batch, &phi);
+      lambda = Lowest(*op, k_ii, m_ii, batch, &phi);
       const bool above = lambda.size() > 0 && lambda(lambda.size() - 1) > limit;
       if (above || batch >= ni) break;
       if (batch >= kMaxReductionModes) {
@@ -274,6 +276,10 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
     lambda.conservativeResize(kept);
     phi.conservativeResize(Eigen::NoChange, kept);
   }
+  op.reset();
+  k_ii = SparseMatrix();
+  m_ii = SparseMatrix();
+  k_ib = SparseMatrix();
   const int m = static_cast<int>(lambda.size());
   report.modes = m;
   report.modes_s = Seconds(modes_start);
