@@ -127,9 +127,11 @@ TEST_CASE("Craig-Bampton: low eigenfrequencies converge from above as modes are 
   }
 }
 
-TEST_CASE("Craig-Bampton: FRF below the first neglected mode matches the full sparse solve") {
+TEST_CASE("Craig-Bampton: FRF well below the retained modes matches the full sparse solve") {
   const int n = 500;
-  const double beta = 1e-6;  // s: Rayleigh stiffness-proportional damping (ζ₁ ≈ 0.1 %·ω₁/2)
+  // s: stiffness-proportional Rayleigh damping, ζ_j = βω_j/2 (3e-6 in the first mode at
+  // 6.3 rad/s, 3e-4 at the 20th fixed-interface mode): light, the test is about projection.
+  const double beta = 1e-6;
   LinearModel chain = Chain(n, beta);
   CraigBamptonOptions options;
   options.modes = 20;
@@ -139,13 +141,13 @@ TEST_CASE("Craig-Bampton: FRF below the first neglected mode matches the full sp
   // Damping maps exactly: Tᵀ(βK)T = β K_r.
   CHECK((Eigen::MatrixXd(cb.model.damping) - beta * Eigen::MatrixXd(cb.model.stiffness)).norm() <
         1e-12 * beta * Eigen::MatrixXd(cb.model.stiffness).norm());
-  const double first_neglected = cb.report.fixed_interface_frequencies.back() * 1.0;
+  const double highest_retained = cb.report.fixed_interface_frequencies.back();  // rad/s
   using Complex = std::complex<double>;
   // Frequencies between the 1st and 5th full modes (resonances avoided: between them),
   // all below half the last retained fixed-interface mode.
   for (double omega : {0.5 * ChainFrequency(n, 1), 1.5 * ChainFrequency(n, 1),
                        0.5 * (ChainFrequency(n, 3) + ChainFrequency(n, 4))}) {
-    REQUIRE(omega < 0.5 * first_neglected);
+    REQUIRE(omega < 0.5 * highest_retained);
     Eigen::SparseMatrix<Complex> z =
         (chain.stiffness - omega * omega * chain.mass).cast<Complex>() +
         Complex(0.0, omega) * chain.damping.cast<Complex>();
@@ -159,8 +161,9 @@ TEST_CASE("Craig-Bampton: FRF below the first neglected mode matches the full sp
     Eigen::VectorXcd f_r = Eigen::VectorXcd::Zero(z_r.rows());
     f_r(0) = 1.0;
     const Eigen::VectorXcd q = z_r.partialPivLu().solve(f_r);
-    // CB's error below ω_max is the neglected modes' dynamic part, ~(ω/ω_{m+1})² of their
-    // (already small) participation: 1e-4 relative at ω ≤ ω_{m}/2 for this chain.
+    // CB's error below the retained modes is the neglected modes' dynamic part, ~(ω/ω_{m+1})²
+    // of their (small) participation: measured 1e-5 at the tip and 5e-5 over the recovered
+    // field at these ω; 1e-4 bounds both (an error in T or in the projection gives O(1)).
     constexpr double kFrfTolerance = 1e-4;
     CHECK(std::abs(q(0) - x_full(tip)) < kFrfTolerance * std::abs(x_full(tip)));
     const Eigen::VectorXcd recovered = cb.recovery.cast<Complex>() * q;
