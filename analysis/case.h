@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "continuation/options.h"
 #include "core/harmonic_set.h"
 #include "core/linear_model.h"
+#include "models/craig_bampton.h"
 #include "nonlinearities/law_spec.h"
 
 namespace nfrc {
@@ -49,6 +51,9 @@ struct Case {
   // Responses of period m·T (SubharmonicCase): the harmonics are of ω/m and so is the
   // continuation parameter; writers report ω = m·λ. 1 for every case read from a file.
   int period_multiple = 1;
+  // Set when `model` is a Craig–Bampton reduction of the case's FE model (model.reduction):
+  // then every DOF index above (laws, forcing, outputs) is the reduced model's.
+  std::optional<ReductionReport> reduction;
 
   // Cross-field checks of a case built in memory or changed after reading; throws InputError
   // naming the case-file field ("nonlinearities[1].mu: must be non-negative").

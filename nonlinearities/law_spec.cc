@@ -139,6 +139,26 @@ std::vector<int> LawDofs(const LawSpec& spec) {
       spec);
 }
 
+void RemapLawDofs(LawSpec& spec, const std::vector<int>& new_index) {
+  auto map = [&](int& dof) {
+    if (dof >= 0) dof = new_index.at(static_cast<size_t>(dof));
+  };
+  std::visit(
+      [&](auto& s) {
+        if constexpr (requires { s.dof; }) {
+          map(s.dof);
+          map(s.other);
+        } else if constexpr (requires { s.geometry; }) {
+          map(s.geometry.dof);
+          map(s.geometry.other);
+        } else {
+          map(s.contact.geometry.dof);
+          map(s.contact.geometry.other);
+        }
+      },
+      spec);
+}
+
 void ValidateLaw(const LawSpec& spec, const LinearModel& model) {
   std::visit([&](const auto& s) { s.Validate(model); }, spec);
 }

@@ -102,6 +102,9 @@ const ContactGeometry* LawContactGeometry(const LawSpec& spec);
 // The model DOFs a spec acts on.
 std::vector<int> LawDofs(const LawSpec& spec);
 
+// Renumbers the DOFs a spec acts on: dof → new_index[dof] (a reduced model's numbering).
+void RemapLawDofs(LawSpec& spec, const std::vector<int>& new_index);
+
 // Validate() of the alternative held.
 void ValidateLaw(const LawSpec& spec, const LinearModel& model);
 

@@ -39,6 +39,29 @@ nlohmann::json OptionsToJson(const Case& the_case) {
           {"line_search", o.line_search}};
 }
 
+}  // namespace
+
+nlohmann::json ReductionToJson(const ReductionReport& report) {
+  nlohmann::json frequencies = nlohmann::json::array();
+  for (const EigenfrequencyCheck& check : report.eigenfrequencies) {
+    frequencies.push_back({{"full", check.full},
+                           {"reduced", check.reduced},
+                           {"relative_error", check.relative_error}});
+  }
+  return {{"type", "craig_bampton"},
+          {"full_dofs", report.full_dofs},
+          {"boundary_dofs", report.boundary_dofs},
+          {"modes", report.modes},
+          {"time_s", report.time_s},
+          {"factor_s", report.factor_s},
+          {"modes_s", report.modes_s},
+          {"check_time_s", report.check_time_s},
+          {"fixed_interface_frequencies", report.fixed_interface_frequencies},
+          {"eigenfrequencies", frequencies}};
+}
+
+namespace {
+
 nlohmann::json LemkeToJson(const LemkeRecord& r) {
   return {{"status", ToString(r.status)},
           {"pivots", r.pivots},
@@ -170,6 +193,7 @@ BranchWriter::BranchWriter(std::string dir, const Case& the_case, nlohmann::json
                {"bifurcations", nlohmann::json::array()},
                {"signals", nlohmann::json::array()},
                {"summary", {{"termination", "running"}, {"message", "run in progress"}}}};
+  if (case_.reduction) document_["reduction"] = ReductionToJson(*case_.reduction);
   WriteJson();
 }
 

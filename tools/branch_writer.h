@@ -53,6 +53,10 @@ class BranchWriter : public TraceObserver {
   int num_signals_ = 0;
 };
 
+// JSON of a Craig–Bampton reduction's report (branch.json "reduction"): sizes, time (s),
+// fixed-interface frequencies and the eigenfrequency check (rad/s).
+nlohmann::json ReductionToJson(const ReductionReport& report);
+
 // JSON of measures as point records hold them: energy, max_abs, min, max, h1, amplitudes,
 // laws (diagnostics) and, for contact cases, min_gap and min_force.
 nlohmann::json MeasuresToJson(const SolutionMeasures& measures);

@@ -6,6 +6,7 @@
 #include "tools/json_input.h"
 #include "tools/law_reader.h"
 #include "tools/model_reader.h"
+#include "tools/reduction_reader.h"
 #include "tools/validation_reader.h"
 
 namespace nfrc {
@@ -107,7 +108,8 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
   InputFields fields(source, "case");
   Case result;
   result.title = fields.OptionalString("title", "");
-  result.model = BuildModel(fields.RequiredObject("model"), base_dir);
+  std::optional<ReductionRequest> reduction;
+  result.model = BuildModel(fields.RequiredObject("model"), base_dir, &reduction);
   const LinearModel& model = result.model.model;
 
   result.harmonics = ReadHarmonics(fields.RequiredObject("harmonics"), model.num_dofs());
@@ -148,6 +150,9 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
   }
   if (fields.Has("stability")) result.stability = ReadStability(fields.RequiredObject("stability"));
   fields.Finish();
+  // Last: the boundary DOFs (laws, forcing, outputs) are known and every field was checked
+  // against the full model, before the costly part.
+  if (reduction) ApplyReduction(result, *reduction);
   result.Validate();
   return result;
 }

@@ -9,6 +9,7 @@
 #include "models/matrix_market.h"
 #include "models/rod.h"
 #include "tools/input_fields.h"
+#include "tools/reduction_reader.h"
 
 namespace nfrc {
 namespace {
@@ -82,7 +83,10 @@ std::vector<ForcingTerm> ReadForcing(InputFields& fields, const LinearModel& mod
   return forcing;
 }
 
-Eigen::SparseMatrix<double> ReadDamping(InputFields& fields, const LinearModel& model) {
+// `deferred_modal` (non-null for a reduced model) receives a modal ratio instead of the
+// full model's modal damping, which the reduction applies to the reduced model.
+Eigen::SparseMatrix<double> ReadDamping(InputFields& fields, const LinearModel& model,
+                                        double* deferred_modal) {
   InputFields damping(fields.RequiredObject("damping"), fields.path() + ".damping");
   Eigen::SparseMatrix<double> c(model.num_dofs(), model.num_dofs());
   if (damping.Has("rayleigh")) {
@@ -97,13 +101,18 @@ Eigen::SparseMatrix<double> ReadDamping(InputFields& fields, const LinearModel& 
   if (damping.Has("modal_ratio")) {
     const double ratio = damping.RequiredNumber("modal_ratio");
     if (ratio < 0.0) damping.Fail("modal_ratio", "must be non-negative");
-    c += ModalDamping(model.mass, model.stiffness, ratio);
+    if (deferred_modal != nullptr) {
+      *deferred_modal = ratio;
+    } else {
+      c += ModalDamping(model.mass, model.stiffness, ratio);
+    }
   }
   damping.Finish();
   return c;
 }
 
-ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_dir) {
+ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_dir,
+                                 double* deferred_modal) {
   ModelDefinition definition;
   LinearModel& model = definition.model;
   model.mass = ReadMatrix(fields, "M", base_dir);
@@ -139,7 +148,7 @@ ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_di
       model.dof_names.push_back(text);
     }
   }
-  if (fields.Has("damping")) model.damping += ReadDamping(fields, model);
+  if (fields.Has("damping")) model.damping += ReadDamping(fields, model, deferred_modal);
   definition.forcing = ReadForcing(fields, model);
   try {
     model.Validate();
@@ -149,7 +158,8 @@ ModelDefinition BuildMatrixModel(InputFields& fields, const std::string& base_di
   return definition;
 }
 
-ModelDefinition BuildRodModel(InputFields& fields, const std::string& /*base_dir*/) {
+ModelDefinition BuildRodModel(InputFields& fields, const std::string& /*base_dir*/,
+                              double* deferred_modal) {
   RodParameters parameters;
   parameters.elements = fields.RequiredInt("elements");
   parameters.length = fields.RequiredNumber("length");
@@ -171,15 +181,18 @@ ModelDefinition BuildRodModel(InputFields& fields, const std::string& /*base_dir
   } catch (const std::invalid_argument& error) {
     throw InputError(fields.path() + "." + error.what());
   }
-  if (fields.Has("damping")) definition.model.damping = ReadDamping(fields, definition.model);
+  if (fields.Has("damping")) {
+    definition.model.damping = ReadDamping(fields, definition.model, deferred_modal);
+  }
   definition.forcing = ReadForcing(fields, definition.model);
   return definition;
 }
 
 }  // namespace
 
-ModelDefinition BuildModel(const nlohmann::json& spec, const std::string& base_dir) {
-  using Builder = ModelDefinition (*)(InputFields&, const std::string&);
+ModelDefinition BuildModel(const nlohmann::json& spec, const std::string& base_dir,
+                           std::optional<ReductionRequest>* reduction) {
+  using Builder = ModelDefinition (*)(InputFields&, const std::string&, double*);
   static const std::map<std::string, Builder> builders = {
       {"matrices", &BuildMatrixModel},
       {"rod", &BuildRodModel},
@@ -188,7 +201,13 @@ ModelDefinition BuildModel(const nlohmann::json& spec, const std::string& base_d
   const std::string type = fields.RequiredString("type");
   const auto found = builders.find(type);
   if (found == builders.end()) fields.Fail("type", "unknown model type \"" + type + "\"");
-  ModelDefinition definition = found->second(fields, base_dir);
+  std::optional<ReductionRequest> request = ReadReduction(fields);
+  if (request && reduction == nullptr) {
+    fields.Fail("reduction", "not available here (only in a case's model)");
+  }
+  ModelDefinition definition =
+      found->second(fields, base_dir, request ? &request->modal_ratio : nullptr);
+  if (reduction != nullptr) *reduction = std::move(request);
   fields.Finish();
   return definition;
 }

@@ -1,14 +1,34 @@
 #include "tools/run_case.h"
 
+#include <cstdio>
+
 #include "analysis/branch_switching.h"
 #include "analysis/trace.h"
 #include "tools/branch_writer.h"
 
 namespace nfrc {
 
+void PrintReduction(const ReductionReport& report, std::ostream& out) {
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "nfrc: Craig-Bampton: %d DOFs -> %d boundary + %d modes in %.3f s (factor %.3f s, "
+                "modes %.3f s; check %.3f s)\n",
+                report.full_dofs, report.boundary_dofs, report.modes, report.time_s,
+                report.factor_s, report.modes_s, report.check_time_s);
+  out << line;
+  for (size_t j = 0; j < report.eigenfrequencies.size(); ++j) {
+    const EigenfrequencyCheck& c = report.eigenfrequencies[j];
+    std::snprintf(line, sizeof line,
+                  "nfrc:   mode %zu: full %.6g rad/s, reduced %.6g rad/s, relative error %.2e\n",
+                  j + 1, c.full, c.reduced, c.relative_error);
+    out << line;
+  }
+}
+
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
                const std::atomic<bool>* stop, const nlohmann::json& source) {
   the_case.Validate();
+  if (progress != nullptr && the_case.reduction) PrintReduction(*the_case.reduction, *progress);
   BranchWriter writer(out_dir, the_case, source);
   TraceOptions options;
   options.progress = progress;

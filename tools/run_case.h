@@ -14,6 +14,9 @@ namespace nfrc {
 // signals as it goes (BranchWriter). `stop` (may be null) is polled after every point, so an
 // interrupt keeps what was found. `source` is the case as written, recorded in branch.json.
 // Throws InputError for bad input and std::runtime_error for I/O.
+// Prints a Craig–Bampton report (sizes, time, eigenfrequency check) as "nfrc: " lines.
+void PrintReduction(const ReductionReport& report, std::ostream& out);
+
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
                const std::atomic<bool>* stop = nullptr, const nlohmann::json& source = nullptr);
 

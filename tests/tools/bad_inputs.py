@@ -174,6 +174,20 @@ case_error("rod_elements_1e6", ROD, setitem(["model", "elements"], 1000000), "mo
 case_error("rod_length_negative", ROD, setitem(["model", "length"], -1), "model.length")
 case_error("modal_damping_negative", ROD, setitem(["model", "damping"], {"modal_ratio": -1}),
            "model.damping.modal_ratio")
+case_error("reduction_modes_negative", ROD,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "modes": -1}),
+           "model.reduction.modes")
+case_error("reduction_modes_and_band", ROD,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "modes": 2,
+                                            "max_frequency": 1e5}), "model.reduction.modes")
+case_error("reduction_type_unknown", ROD,
+           setitem(["model", "reduction"], {"type": "guyan", "modes": 2}), "model.reduction.type")
+case_error("reduction_more_modes_than_interior", ROD,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "modes": 25}),
+           "model.reduction", "modes")
+case_error("reduction_band_negative", ROD,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "max_frequency": -1}),
+           "model.reduction.max_frequency")
 case_error("matrix_market_missing", DUFFING, setitem(["model", "K"], "nowhere.mtx"),
            "model.K", "nowhere.mtx")
 
