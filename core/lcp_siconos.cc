@@ -30,7 +30,8 @@ class SiconosProblem {
     options_ = solver_options_create(solver_id);
   }
   ~SiconosProblem() {
-    solver_options_delete(options_);
+    solver_options_delete(options_);  // frees the members, not the struct
+    std::free(options_);
     NM_clear(matrix_);  // frees the storage, not the struct
     std::free(matrix_);
   }

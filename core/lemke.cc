@@ -60,6 +60,7 @@ class LemkeSolver {
     max_pivots_ = options.max_pivots > 0 ? options.max_pivots : 50 * n_ + 1000;
     w_position_.assign(n_, -1);
     free_index_.assign(n_, -1);
+    y_.resize(n_, 0);  // n rows from the start: y_.row(p).head(0) is then valid
   }
 
   LemkeResult Solve() {
