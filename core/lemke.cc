@@ -16,7 +16,7 @@ namespace {
 constexpr double kSingularRcond = std::numeric_limits<double>::epsilon();
 
 // The basis inverse is rebuilt from scratch every this many pivots, so update errors cannot
-// pile up on long paths; a rebuild costs about as much as a few O(n²) pivots (see Factorize).
+// pile up on long paths; a rebuild, O(k³ + n·k²), costs about as much as k O(n·k) pivots.
 constexpr int kRefactorInterval = 50;
 
 std::string Format(double value) {
@@ -40,18 +40,27 @@ double Rcond(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
 // Lemke's method on the scaled problem w̃ = M̃ z̃ + q̃ with M̃ = M/‖M‖max, q̃ = q/‖q‖∞
 // (z̃ = z·‖M‖max/‖q‖∞, w̃ = w/‖q‖∞), which keeps the lexicographic path and makes every
 // tolerance relative. Variables are numbered w_i = i, z_i = n + i, z0 = 2n; the tableau is
-// I·w̃ − M̃·z̃ − d̃·z0 = q̃ with basis B, kept as B⁻¹ and x_B = B⁻¹q̃.
+// I·w̃ − M̃·z̃ − d̃·z0 = q̃ with basis B and x_B = B⁻¹q̃.
+//
+// B⁻¹ is kept in O(n·k) storage, k the number of basic z's and z0: with R the rows whose w is
+// not basic, column j ∉ R of B⁻¹ is the unit vector at w_j's position (B e_p = e_j there), so
+// only the k columns j ∈ R are stored (y_). Every row of B⁻¹ is supported on R plus at most
+// one unit entry, so a pivot's rank-one update, an entering column B⁻¹a and the row norms of
+// the pivot tolerance all cost O(n·k) instead of O(n²). On the low-rank Delassus operators of
+// LCP-HBM k stays below rank(M) + 2 while n = N_t is ten times larger.
 class LemkeSolver {
  public:
   LemkeSolver(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const LemkeOptions& options)
-      : n_(static_cast<int>(q.size())), options_(options), original_m_(m), original_q_(q) {
+      : n_(static_cast<int>(q.size())), options_(options), m_(m), original_q_(q) {
     q_scale_ = q.lpNorm<Eigen::Infinity>();
     m_scale_ = m.lpNorm<Eigen::Infinity>();
     if (!(q_scale_ > 0.0)) q_scale_ = 1.0;
     if (!(m_scale_ > 0.0)) m_scale_ = 1.0;
-    m_ = m / m_scale_;
     q_ = q / q_scale_;
     max_pivots_ = options.max_pivots > 0 ? options.max_pivots : 50 * n_ + 1000;
+    w_position_.assign(n_, -1);
+    free_index_.assign(n_, -1);
+    y_.resize(n_, 0);  // n rows from the start: y_.row(p).head(0) is then valid
   }
 
   LemkeResult Solve() {
@@ -66,20 +75,24 @@ class LemkeSolver {
     std::string prefix;
     Eigen::VectorXd covering;  // d̄ = B⁻¹d̃ of the starting basis
     if (!options_.warm_basis.empty()) {
-      basic_.assign(n_, 0);
-      for (int i = 0; i < n_; ++i) basic_[i] = i;
-      for (int i : options_.warm_basis) basic_[i] = n_ + i;
+      std::vector<int> basic(n_);
+      for (int i = 0; i < n_; ++i) basic[i] = i;
+      for (int i : options_.warm_basis) basic[i] = n_ + i;
+      SetBasis(basic);
       const Factorization basis = Factorize();
       if (basis.rcond >= kSingularRcond) {
         result_.warm_started = true;
-        binv_ = Inverse(basis);
+        LoadInverse(basis);
         x_ = Solve(basis, q_);
         if (x_.minCoeff() >= -options_.feasibility_tolerance) {
           return Finish(LemkeStatus::kSolution, "the warm basis is the solution");
         }
         covering = Eigen::VectorXd::Ones(n_);
         covering_ = covering;  // d̃ = B·1
-        for (int i : options_.warm_basis) covering_ += -m_.col(i) - Eigen::VectorXd::Unit(n_, i);
+        for (int i : options_.warm_basis) {
+          covering_ -= m_.col(i) / m_scale_;
+          covering_(i) -= 1.0;
+        }
       } else {
         prefix = "warm basis is singular (rcond " + Format(basis.rcond) + "), cold start; ";
       }
@@ -103,6 +116,8 @@ class LemkeSolver {
     const int first_row = LexicographicMinimum(rows, x_, covering);
     int leaving = Pivot(first_row, ArtificialVariable(), -covering);
 
+    Eigen::VectorXd column(n_);
+    Eigen::VectorXd threshold(n_);
     for (;;) {
       if (leaving == ArtificialVariable()) {
         return Finish(LemkeStatus::kSolution, prefix + "solution: z0 left the basis");
@@ -112,8 +127,9 @@ class LemkeSolver {
         return Finish(LemkeStatus::kPivotLimit,
                       prefix + "pivot limit " + std::to_string(max_pivots_) + " reached");
       }
-      const Eigen::VectorXd column = EnteringColumn(entering);
-      const Eigen::VectorXd threshold = options_.pivot_tolerance * binv_.cwiseAbs().rowwise().sum();
+      EnteringColumn(entering, &column);
+      RowNorms(&threshold);
+      threshold *= options_.pivot_tolerance;
       rows.clear();
       for (int i = 0; i < n_; ++i) {
         if (column(i) > threshold(i)) rows.push_back(i);
@@ -136,34 +152,64 @@ class LemkeSolver {
 
  private:
   int ArtificialVariable() const { return 2 * n_; }
+  int NumFree() const { return static_cast<int>(free_.size()); }
 
   std::string Name(int variable) const {
     if (variable == ArtificialVariable()) return "z0";
     return (variable < n_ ? "w_" : "z_") + std::to_string(variable % n_);
   }
 
+  // Sets the basic variables and the positions of the basic w's; the stored columns of B⁻¹
+  // are then stale until SetColdBasis or LoadInverse.
+  void SetBasis(std::vector<int> basic) {
+    basic_ = std::move(basic);
+    std::fill(w_position_.begin(), w_position_.end(), -1);
+    for (int p = 0; p < n_; ++p) {
+      if (basic_[p] < n_) w_position_[basic_[p]] = p;
+    }
+  }
+
   void SetColdBasis() {
-    basic_.assign(n_, 0);
-    for (int i = 0; i < n_; ++i) basic_[i] = i;
-    binv_ = Eigen::MatrixXd::Identity(n_, n_);
+    std::vector<int> basic(n_);
+    for (int i = 0; i < n_; ++i) basic[i] = i;
+    SetBasis(std::move(basic));
+    free_.clear();
+    std::fill(free_index_.begin(), free_index_.end(), -1);
     x_ = q_;
   }
 
   // Column of `variable` in I·w̃ − M̃·z̃ − d̃·z0 = q̃.
   Eigen::VectorXd TableauColumn(int variable) const {
     if (variable == ArtificialVariable()) return -covering_;
-    if (variable >= n_) return -m_.col(variable - n_);
+    if (variable >= n_) return -m_.col(variable - n_) / m_scale_;
     return Eigen::VectorXd::Unit(n_, variable);
+  }
+
+  // (B⁻¹)_{row, col} from the stored columns and the unit ones.
+  double InverseEntry(int row, int col) const {
+    const int c = free_index_[col];
+    if (c >= 0) return y_(row, c);
+    return w_position_[col] == row ? 1.0 : 0.0;
+  }
+
+  // 1-norms of the rows of B⁻¹ (the size rounding errors in B⁻¹a scale with), in O(n·k).
+  void RowNorms(Eigen::VectorXd* norms) const {
+    if (free_.empty()) {
+      norms->setZero();
+    } else {
+      *norms = y_.leftCols(NumFree()).cwiseAbs().rowwise().sum();
+    }
+    for (int i = 0; i < n_; ++i) {
+      if (w_position_[i] >= 0) (*norms)(w_position_[i]) += 1.0;
+    }
   }
 
   // LU of the basis through its structure: the basic w's are unit columns, so with C the k
   // other basic columns and R the k rows that no basic w covers, B is singular iff C_R is, and
-  // B⁻¹ follows from an LU of C_R in O(k³ + n·k² + n²) instead of O(n³). k is at most the rank
-  // of M plus one, so for the low-rank Delassus operators this is about a pivot's cost.
+  // B⁻¹ follows from an LU of C_R in O(k³ + n·k²) instead of O(n³).
   struct Factorization {
     std::vector<int> other_positions;         // basis positions holding a z or z0
-    std::vector<int> free_rows;               // rows i whose w_i is not basic
-    std::vector<int> w_positions;             // w_positions[i]: position of w_i, −1 if nonbasic
+    std::vector<int> free_rows;               // rows i whose w_i is not basic (ascending)
     Eigen::MatrixXd c;                        // n × k tableau columns of the others
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of C_R
     double rcond = 1.0;
@@ -171,16 +217,11 @@ class LemkeSolver {
 
   Factorization Factorize() const {
     Factorization f;
-    f.w_positions.assign(n_, -1);
     for (int p = 0; p < n_; ++p) {
-      if (basic_[p] < n_) {
-        f.w_positions[basic_[p]] = p;
-      } else {
-        f.other_positions.push_back(p);
-      }
+      if (basic_[p] >= n_) f.other_positions.push_back(p);
     }
     for (int i = 0; i < n_; ++i) {
-      if (f.w_positions[i] < 0) f.free_rows.push_back(i);
+      if (w_position_[i] < 0) f.free_rows.push_back(i);
     }
     const int k = static_cast<int>(f.other_positions.size());
     f.c.resize(n_, k);
@@ -199,38 +240,56 @@ class LemkeSolver {
     if (!f.other_positions.empty()) x_c = f.lu.solve(Eigen::VectorXd(rhs(f.free_rows)));
     for (size_t a = 0; a < f.other_positions.size(); ++a) x(f.other_positions[a]) = x_c(a);
     for (int i = 0; i < n_; ++i) {
-      const int p = f.w_positions[i];
+      const int p = w_position_[i];
       if (p >= 0) x(p) = f.other_positions.empty() ? rhs(i) : rhs(i) - f.c.row(i).dot(x_c);
     }
     return x;
   }
 
-  Eigen::MatrixXd Inverse(const Factorization& f) const {
-    Eigen::MatrixXd inverse = Eigen::MatrixXd::Zero(n_, n_);
-    const int k = static_cast<int>(f.other_positions.size());
-    Eigen::MatrixXd g;  // C_R⁻¹
-    Eigen::MatrixXd h;  // C·C_R⁻¹
-    if (k > 0) {
-      g = f.lu.inverse();
-      h = f.c * g;
-    }
-    for (int a = 0; a < k; ++a) {
-      for (int b = 0; b < k; ++b) inverse(f.other_positions[a], f.free_rows[b]) = g(a, b);
-    }
+  // Stores the columns j ∈ R of B⁻¹ from the factorisation: C_R⁻¹ in the rows of the others,
+  // −(C·C_R⁻¹)_i in the row of each basic w_i.
+  void LoadInverse(const Factorization& f) {
+    free_ = f.free_rows;
+    std::fill(free_index_.begin(), free_index_.end(), -1);
+    const int k = NumFree();
+    for (int b = 0; b < k; ++b) free_index_[free_[b]] = b;
+    if (y_.cols() < k) y_.resize(n_, std::max(k, std::min(n_, 2 * k)));
+    if (k == 0) return;
+    const Eigen::MatrixXd g = f.lu.inverse();  // C_R⁻¹
+    const Eigen::MatrixXd h = f.c * g;         // C·C_R⁻¹
+    for (int a = 0; a < k; ++a) y_.row(f.other_positions[a]).head(k) = g.row(a);
     for (int i = 0; i < n_; ++i) {
-      const int p = f.w_positions[i];
-      if (p < 0) continue;
-      inverse(p, i) = 1.0;
-      for (int b = 0; b < k; ++b) inverse(p, f.free_rows[b]) = -h(i, b);
+      const int p = w_position_[i];
+      if (p >= 0) y_.row(p).head(k) = -h.row(i);
     }
-    return inverse;
   }
 
-  // B⁻¹a for the column a of `variable`, in O(n²) (O(n) for a w).
-  Eigen::VectorXd EnteringColumn(int variable) const {
-    if (variable < n_) return binv_.col(variable);
-    if (variable == ArtificialVariable()) return -(binv_ * covering_);
-    return -(binv_ * m_.col(variable - n_));
+  // B⁻¹a for the column a of `variable`, in O(n·k): the stored columns times a_R, plus a_i
+  // at w_i's position for every basic w_i.
+  void EnteringColumn(int variable, Eigen::VectorXd* column) const {
+    const int k = NumFree();
+    if (variable < n_) {
+      *column = y_.col(free_index_[variable]);  // w_j enters only while j ∈ R
+      return;
+    }
+    const double* a = nullptr;
+    double sign = -1.0;  // the tableau columns of z and z0 are −M̃_j and −d̃
+    if (variable == ArtificialVariable()) {
+      a = covering_.data();
+    } else {
+      a = m_.col(variable - n_).data();
+      sign = -1.0 / m_scale_;
+    }
+    if (k > 0) {
+      Eigen::VectorXd a_free(k);
+      for (int c = 0; c < k; ++c) a_free(c) = sign * a[free_[c]];
+      column->noalias() = y_.leftCols(k) * a_free;
+    } else {
+      column->setZero();
+    }
+    for (int i = 0; i < n_; ++i) {
+      if (w_position_[i] >= 0) (*column)(w_position_[i]) += sign * a[i];
+    }
   }
 
   // Among `rows` (all with column > 0), the one minimising [x_i, (B⁻¹)_i] / column_i
@@ -256,35 +315,67 @@ class LemkeSolver {
     for (int i : ties) {
       if (basic_[i] == ArtificialVariable()) return i;
     }
+    if (ties.size() == 1) return ties.front();
     // The natural size of the ratio entries, for a relative tie width in B⁻¹'s components.
     double scale = 0.0;
-    for (int i : ties) scale = std::max(scale, binv_.row(i).lpNorm<1>() / column(i));
+    for (int i : ties) {
+      double norm = basic_[i] < n_ ? 1.0 : 0.0;
+      for (int c = 0; c < NumFree(); ++c) norm += std::abs(y_(i, c));
+      scale = std::max(scale, norm / column(i));
+    }
     const double width = options_.pivot_tolerance * scale;
     for (int k = 0; k < n_ && ties.size() > 1; ++k) {
       best = std::numeric_limits<double>::infinity();
-      for (int i : ties) best = std::min(best, binv_(i, k) / column(i));
+      for (int i : ties) best = std::min(best, InverseEntry(i, k) / column(i));
       rows.clear();
       for (int i : ties) {
-        if (binv_(i, k) / column(i) - best <= width) rows.push_back(i);
+        if (InverseEntry(i, k) / column(i) - best <= width) rows.push_back(i);
       }
       ties.swap(rows);
     }
     return ties.front();
   }
 
-  // Exchanges the basic variable of `row` for `entering` (whose B⁻¹a is `column`) with a
-  // rank-one update of B⁻¹ and x_B; returns the leaving variable. Sets overflow_ if the pivot
+  // Exchanges the basic variable of `row` for `entering` (whose B⁻¹a is `column`) with the
+  // rank-one update B⁻¹ −= (column − e_row)·(B⁻¹)_row / pivot on the stored columns, and of
+  // x_B; returns the leaving variable. A leaving w_i adds column i (its unit column updated),
+  // an entering w_j drops column j (now the unit vector at `row`). Sets overflow_ if the pivot
   // was so small (pivot_tolerance 0) that the update is not finite.
   int Pivot(int row, int entering, const Eigen::VectorXd& column) {
     const double pivot = column(row);
-    const Eigen::RowVectorXd pivot_row = binv_.row(row) / pivot;
-    overflow_ = !(pivot_row.allFinite() && std::isfinite(x_(row) / pivot));
+    const int leaving = basic_[row];
+    int k = NumFree();
+    const Eigen::RowVectorXd pivot_row = y_.row(row).head(k) / pivot;
+    overflow_ =
+        !(pivot_row.allFinite() && std::isfinite(x_(row) / pivot) && std::isfinite(1.0 / pivot));
     Eigen::VectorXd eta = column;
     eta(row) -= 1.0;
-    binv_.noalias() -= eta * pivot_row;
+    if (k > 0) y_.leftCols(k).noalias() -= eta * pivot_row;
+    if (leaving < n_) {
+      // Column `leaving` of B⁻¹ was e_row; its update is e_row − eta/pivot.
+      if (y_.cols() <= k) {
+        y_.conservativeResize(n_, std::min(n_, std::max(2 * k, 8)));
+      }
+      y_.col(k) = -eta / pivot;
+      y_(row, k) += 1.0;
+      free_.push_back(leaving);
+      free_index_[leaving] = k;
+      w_position_[leaving] = -1;
+      ++k;
+    }
+    if (entering < n_) {
+      const int c = free_index_[entering];
+      if (c != k - 1) {
+        y_.col(c) = y_.col(k - 1);
+        free_[c] = free_[k - 1];
+        free_index_[free_[c]] = c;
+      }
+      free_.pop_back();
+      free_index_[entering] = -1;
+      w_position_[entering] = row;
+    }
     const double step = x_(row) / pivot;
     x_ -= step * eta;
-    const int leaving = basic_[row];
     basic_[row] = entering;
     ++result_.pivots;
     return leaving;
@@ -295,7 +386,7 @@ class LemkeSolver {
   void Refactor() {
     const Factorization basis = Factorize();
     if (!(basis.rcond >= kSingularRcond)) return;
-    binv_ = Inverse(basis);
+    LoadInverse(basis);
     x_ = Solve(basis, q_);
   }
 
@@ -329,24 +420,26 @@ class LemkeSolver {
     std::sort(r.basic_z.begin(), r.basic_z.end());
     r.complementarity = r.w.cwiseProduct(r.z).lpNorm<Eigen::Infinity>();
     r.feasibility = std::max({0.0, -r.w.minCoeff(), -r.z.minCoeff()});
-    r.equation_residual = (r.w - original_m_ * r.z - original_q_).lpNorm<Eigen::Infinity>();
+    r.equation_residual = (r.w - m_ * r.z - original_q_).lpNorm<Eigen::Infinity>();
     r.message = std::move(message) + " (" + std::to_string(r.pivots) + " pivots)";
     return r;
   }
 
   int n_;
   const LemkeOptions& options_;
-  const Eigen::MatrixXd& original_m_;
+  const Eigen::MatrixXd& m_;  // unscaled: M̃ = m_/m_scale_ is formed column by column
   const Eigen::VectorXd& original_q_;
   double q_scale_ = 1.0;
   double m_scale_ = 1.0;
   int max_pivots_ = 0;
-  Eigen::MatrixXd m_;
   Eigen::VectorXd q_;
-  Eigen::VectorXd covering_;  // d̃, the scaled covering vector (B·1 after a warm start)
-  Eigen::MatrixXd binv_;
+  Eigen::VectorXd covering_;     // d̃, the scaled covering vector (B·1 after a warm start)
+  std::vector<int> basic_;       // basic variable of each tableau row
+  std::vector<int> w_position_;  // w_position_[i]: row of w_i if basic, −1 if i ∈ R
+  std::vector<int> free_;        // R: rows whose w is not basic, in the order of y_'s columns
+  std::vector<int> free_index_;  // free_index_[i]: column of y_ for i ∈ R, −1 otherwise
+  Eigen::MatrixXd y_;            // n × capacity; the first |R| columns are B⁻¹'s columns R
   Eigen::VectorXd x_;
-  std::vector<int> basic_;  // basic variable of each tableau row
   bool overflow_ = false;
   LemkeResult result_;
 };

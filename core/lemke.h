@@ -66,9 +66,10 @@ struct LemkeResult {
 // Solves the linear complementarity problem w = M z + q, w ≥ 0, z ≥ 0, wᵀz = 0 (M dense, possibly
 // singular and nonsymmetric) by Lemke's complementary pivoting on I·w − M·z − d·z0 = q, with the
 // lexicographic ratio test (no cycling on degenerate problems) and an explicit basis inverse
-// updated in O(n²) per pivot. It terminates on any M and finds a solution whenever one exists
-// for P-matrices and positive semidefinite M; the returned point is recomputed from an LU of
-// the final basis.
+// updated in O(n·k) per pivot, k ≤ n the number of basic z's and z0 (at most rank(M) + 1, so
+// n/k times cheaper than O(n²) on low-rank Delassus operators). It terminates on any M and finds a
+// solution whenever one exists for P-matrices and positive semidefinite M; the returned point is
+// recomputed from an LU of the final basis.
 //
 // Warm start: with a nonsingular complementary basis B of options.warm_basis, q̄ = B⁻¹q ≥ 0
 // means B is the solution (0 pivots); otherwise Lemke runs on the tableau transformed by B with

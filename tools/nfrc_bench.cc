@@ -12,7 +12,9 @@
 //      arclength corrector (ω moves every iteration) can meet the residual tolerance;
 //   6. LCP-HBM per point on the rigid-obstacle rod, N_h = 20, N_t = 41, 400, 600
 //      (cases/lcp/rigid_stepping_nt400.json): assembly of W, p, the Lemke solve and the
-//      whole point at two frequencies in contact, and the mean over a cold-start sweep;
+//      whole point at two frequencies in contact, and the mean over a cold-start sweep; with
+//      Siconos (NFRC_HAVE_SICONOS) its lcp_lexicolemke on the same scaled W, p alongside,
+//      and both solvers' verified solutions / failures over the sweep;
 //   7. transients to periodic steady state from rest (validation/): IDA on the friction
 //      oscillator at point E and on the rod against a flexible obstacle at ω0, the explicit
 //      Lagrange-multiplier scheme on the rod against a rigid one: integration time, periods,
@@ -46,6 +48,9 @@
 #include <vector>
 
 #include "analysis/lcp_hbm.h"
+#ifdef NFRC_HAVE_SICONOS
+#include "core/lcp_siconos.h"
+#endif
 #include "analysis/trace.h"
 #include "analysis/validation_settings.h"
 #include "core/condensation.h"
@@ -336,11 +341,43 @@ LcpPointTimes TimeLcpPoint(nfrc::LcpHbm& lcp, double omega, int repeats, int* pe
   return times;
 }
 
+#ifdef NFRC_HAVE_SICONOS
+// Siconos's lcp_lexicolemke on the problem LcpHbm::Solve hands to Lemke (W/‖W‖max,
+// p/‖p‖∞): the solve's time (s) and whether it returned a verified solution, i.e. info 0
+// and z ≥ 0, g = W z + p ≥ 0, g_i z_i = 0 to 1e-8 of the unit scales (nfrc's Lemke meets
+// ~1e-12 there; Siconos's "info 0" alone also covers garbage on some problems).
+struct SiconosPoint {
+  double seconds = 0.0;
+  bool solved = false;
+  int pivots = 0;
+};
+
+SiconosPoint SolveSiconos(const nfrc::LcpHbm::Problem& problem) {
+  constexpr double kTolerance = 1e-8;
+  const Eigen::MatrixXd w = problem.w / problem.w.cwiseAbs().maxCoeff();
+  const Eigen::VectorXd p = problem.p / problem.p.cwiseAbs().maxCoeff();
+  const auto start = Clock::now();
+  const nfrc::SiconosLcpResult r =
+      nfrc::SolveLcpSiconos(w, p, nfrc::SiconosLcpSolver::kLexicoLemke);
+  SiconosPoint point;
+  point.seconds = Seconds(start);
+  point.pivots = r.iterations;
+  const Eigen::VectorXd gap = w * r.z + p;
+  const double z_scale = std::max(1.0, r.z.lpNorm<Eigen::Infinity>());
+  point.solved = r.ok && r.z.minCoeff() >= -kTolerance * z_scale && gap.minCoeff() >= -kTolerance &&
+                 gap.cwiseProduct(r.z).lpNorm<Eigen::Infinity>() <= kTolerance * z_scale;
+  return point;
+}
+#endif
+
 // LCP-HBM per point for the rigid-obstacle rod with N_h = 20 at each N_t in `samples`: the
 // two contact frequencies, then the mean over a sweep of cold starts, each a Solve at a new
 // ω as `nfrc run` does with lemke_stepping (its warm re-solves for coexisting contact
-// states are not included).
-void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_points) {
+// states are not included). Siconos's lcp_lexicolemke, when built in, solves the same scaled
+// problems: median of `siconos_repeats` at the two frequencies (it is O(n²) per pivot), once
+// per sweep point.
+void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_points,
+                      int siconos_repeats) {
   const auto section_start = Clock::now();
   const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/lcp";
   const nfrc::Case base = nfrc::LoadCase(dir + "/rigid_stepping_nt400.json");
@@ -349,10 +386,14 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
   constexpr double kSweepEnd = 6.6e4;              // rad/s
   std::printf(
       "LCP-HBM per point: rigid-obstacle rod (cases/lcp/rigid_stepping_nt400.json), N_h=20, "
-      "median of %d\n",
+      "median of %d (LU = LU(320) units)\n",
       repeats);
-  std::printf("  %4s %5s %12s %12s %9s %7s %15s\n", "N_t", "n", "omega rad/s", "assembly ms",
-              "Lemke ms", "pivots", "total ms/point");
+  std::printf("  %4s %5s %10s %9s %8s %8s %6s %9s %8s", "N_t", "n", "omega", "assem ms", "Lemke ms",
+              "Lemke LU", "pivots", "total ms", "total LU");
+#ifdef NFRC_HAVE_SICONOS
+  std::printf(" %10s %10s %8s", "Siconos ms", "Siconos LU", "pivots");
+#endif
+  std::printf("\n");
   for (int nt : samples) {
     nfrc::Case the_case = base;
     the_case.harmonics =
@@ -363,9 +404,22 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
     lcp.Solve(kSweepStart);  // first point: allocations, not timed
     for (double omega : kOmegas) {
       const LcpPointTimes t = TimeLcpPoint(lcp, omega, repeats, &perturbation);
-      std::printf("  %4d %5d %12.1f %12.3f %9.3f %7d %15.3f%s\n", nt, lcp.num_samples(), omega,
-                  1e3 * t.assembly, 1e3 * t.lemke, t.solution.lemke.pivots, 1e3 * t.total,
-                  t.solution.lemke.ok() ? "" : "  (Lemke failed)");
+      std::printf("  %4d %5d %10.1f %9.3f %8.3f %8.3f %6d %9.3f %8.3f", nt, lcp.num_samples(),
+                  omega, 1e3 * t.assembly, 1e3 * t.lemke, t.lemke / g_lu_unit,
+                  t.solution.lemke.pivots, 1e3 * t.total, t.total / g_lu_unit);
+#ifdef NFRC_HAVE_SICONOS
+      std::vector<double> times;
+      SiconosPoint point;
+      for (int r = 0; r < siconos_repeats; ++r) {
+        point = SolveSiconos(lcp.Assemble(omega));
+        times.push_back(point.seconds);
+      }
+      std::printf(" %10.3f %10.3f %8d%s", 1e3 * Median(times), Median(times) / g_lu_unit,
+                  point.pivots, point.solved ? "" : "  (Siconos failed)");
+#else
+      (void)siconos_repeats;
+#endif
+      std::printf("%s\n", t.solution.lemke.ok() ? "" : "  (Lemke failed)");
     }
     int pivots = 0;
     int failures = 0;
@@ -378,10 +432,26 @@ void BenchLcpPerPoint(const std::vector<int>& samples, int repeats, int sweep_po
     }
     const double sweep = Seconds(start);
     std::printf(
-        "  %4d %5d  sweep %d cold starts %.0f..%.0f: %.3f ms/point mean, %.1f pivots mean, "
-        "%d failed\n",
+        "  %4d %5d  sweep %d cold starts %.0f..%.0f: %.3f ms/point mean = %.3f LU, %.1f "
+        "pivots mean, nfrc Lemke solved %d, failed %d\n",
         nt, lcp.num_samples(), sweep_points, kSweepStart, kSweepEnd, 1e3 * sweep / sweep_points,
-        static_cast<double>(pivots) / sweep_points, failures);
+        sweep / sweep_points / g_lu_unit, static_cast<double>(pivots) / sweep_points,
+        sweep_points - failures, failures);
+#ifdef NFRC_HAVE_SICONOS
+    double siconos_time = 0.0;
+    int siconos_solved = 0;
+    for (int i = 0; i < sweep_points; ++i) {
+      const double omega = kSweepStart + (kSweepEnd - kSweepStart) * i / (sweep_points - 1);
+      const SiconosPoint point = SolveSiconos(lcp.Assemble(omega));
+      siconos_time += point.seconds;
+      siconos_solved += point.solved;
+    }
+    std::printf(
+        "  %4d %5d  same sweep, Siconos lcp_lexicolemke: %.3f ms/solve mean = %.3f LU, "
+        "solved %d, failed %d\n",
+        nt, lcp.num_samples(), 1e3 * siconos_time / sweep_points,
+        siconos_time / sweep_points / g_lu_unit, siconos_solved, sweep_points - siconos_solved);
+#endif
   }
   std::printf("  section time   %.2f s\n", Seconds(section_start));
 }
@@ -535,7 +605,7 @@ int main(int argc, char** argv) {
     BenchRefinedRod(10000, 20);
     BenchRefinedRod(100000, 8);
   }
-  if (run(6)) BenchLcpPerPoint({41, 400, 600}, 5, 31);
+  if (run(6)) BenchLcpPerPoint({41, 400, 600}, 5, 31, 3);
   if (run(7)) {
     BenchTransient("validation/friction_point_e.json", 0.308, 3);
     BenchTransient("validation/rod_flexible_4krod.json", 63954.0, 3);
