@@ -15,6 +15,11 @@ constexpr double kArmijo = 1e-4;
 constexpr int kMaxBacktracks = 12;
 // Without line search, a merit this many times its value at the start means divergence.
 constexpr double kDivergenceGrowth = 1e2;
+// Watchdog (Chamberlain et al. 1982): where no fraction of the Newton step decreases the
+// merit (at a kink of a semismooth residual the Newton direction need not be a descent
+// direction of ‖R‖), the full step is taken once; the merit must then fall below its value
+// before that step within this many further iterations, or the correction fails.
+constexpr int kWatchdogIterations = 3;
 
 enum class Constraint { kArclength, kFixedLambda };
 
@@ -50,6 +55,10 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   result.residual_norm = result.linearization.residual.norm();
 
   Linearization trial_linearization;
+  // Merit before a watchdog step and the iteration by which it must be beaten.
+  bool watching = false;
+  double watchdog_merit = 0.0;
+  int watchdog_deadline = 0;
   for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -result.linearization.residual / r;
@@ -81,7 +90,20 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
       }
       if (evaluated && trial_merit <= (1.0 - kArmijo * alpha) * merit) break;
       if (backtrack == kMaxBacktracks) {
-        return Fail(std::move(result), "line search found no decrease of the residual");
+        if (watching) {
+          return Fail(std::move(result), "line search found no decrease of the residual");
+        }
+        // Watchdog: the full step, evaluated again (the loop left the last trial halved).
+        trial = result.u + step;
+        if (constraint == Constraint::kFixedLambda) trial(n) = u_ref(n);
+        if (!evaluator.Linearize(trial, &trial_linearization)) {
+          return Fail(std::move(result), "line search found no decrease of the residual");
+        }
+        trial_merit = Merit(trial_linearization, constraint_residual(trial), r);
+        watching = true;
+        watchdog_merit = merit;
+        watchdog_deadline = iteration + kWatchdogIterations;
+        break;
       }
       alpha *= 0.5;
     }
@@ -89,6 +111,13 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     std::swap(result.linearization, trial_linearization);
     result.residual_norm = result.linearization.residual.norm();
     merit = trial_merit;
+    if (watching && iteration != watchdog_deadline - kWatchdogIterations) {
+      if (merit < watchdog_merit) {
+        watching = false;
+      } else if (iteration >= watchdog_deadline) {
+        return Fail(std::move(result), "line search found no decrease of the residual");
+      }
+    }
     if (!settings.line_search && merit > kDivergenceGrowth * initial_merit) {
       return Fail(std::move(result), "Newton diverging (residual growing)");
     }

@@ -618,7 +618,7 @@ int main(int argc, char** argv) {
     BenchStability("rod/rigid_nh20.json", 0, 0);
     BenchStability("rod/flexible_4krod.json", 0, 0);
   }
-  if (run(9)) nfrc::bench::BenchAcceptance(g_lu_unit, accuracy);
+  if (run(9)) nfrc::bench::BenchAcceptance(LuUnitSeconds, accuracy);
   if (run(10)) BenchBlade(3);
   return 0;
 }

@@ -117,6 +117,37 @@ TEST_CASE("corrector: the line search rescues Newton where the full step diverge
   CHECK(std::abs(converged.u(0)) < settings.update_tolerance);
 }
 
+// Piecewise-linear R(y) with its root at y = 1.5: slope 1 for y ≤ 0, −8/3 on (0, 0.75), 4
+// from 0.75. At y = 0 the generalised derivative is the left branch's 1, so the Newton step
+// +1 climbs the middle branch: no fraction of it decreases |R| (it is ≥ 1 on [0, 1]), yet the
+// full step lands on the last branch, from which one Newton step is exact.
+class KinkProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double /*lambda*/, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    const double x = y(0);
+    const double slope = x <= 0.0 ? 1.0 : (x < 0.75 ? -8.0 / 3.0 : 4.0);
+    (*residual)(0) = x <= 0.0 ? x - 1.0 : (x < 0.75 ? -1.0 - 8.0 / 3.0 * x : 4.0 * x - 6.0);
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = slope;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = 0.0;
+    return true;
+  }
+};
+
+TEST_CASE("corrector: the watchdog takes a full step where no fraction of it decreases |R|") {
+  KinkProblem problem;
+  Evaluator evaluator(problem);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, UnitScaling(1), settings, Eigen::Vector2d(0.0, 0.0));
+  REQUIRE(result.converged);
+  CHECK(result.u(0) == Near(1.5));
+  // The watchdog step to y = 1, the exact step to 1.5, then a zero update that confirms it.
+  CHECK(result.iterations <= 3);
+}
+
 TEST_CASE("corrector: a failing Evaluate is a failed correction, not a point") {
   class FailingProblem : public ContinuationProblem {
    public:
