@@ -108,18 +108,24 @@ double LuUnitSeconds() {
 
 double g_lu_unit = 0.0;  // s, set once at start
 
-void BenchCase(const std::string& name, int repeats) {
-  const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/" + name;
-  std::vector<double> times;
+// Builds the system and traces the case `repeats` times (the linear-guess start included),
+// appending each wall time (s); returns the last branch.
+nfrc::Branch TimeTraces(const nfrc::Case& the_case, int repeats, std::vector<double>* times) {
   nfrc::Branch branch;
-  for (int r = 0; r < repeats; ++r) {
-    nfrc::Case the_case = nfrc::LoadCase(path);
+  for (int repeat = 0; repeat < repeats; ++repeat) {
     const auto start = Clock::now();
     auto system = nfrc::BuildSystem(the_case);
     const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
     branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
-    times.push_back(Seconds(start));
+    times->push_back(Seconds(start));
   }
+  return branch;
+}
+
+void BenchCase(const std::string& name, int repeats) {
+  const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/" + name;
+  std::vector<double> times;
+  const nfrc::Branch branch = TimeTraces(nfrc::LoadCase(path), repeats, &times);
   const auto& s = branch.summary;
   std::printf("%s: %s, %d points, %d folds, %d unknowns\n", name.c_str(), nfrc::ToString(s.reason),
               s.num_points, s.num_folds, static_cast<int>(branch.points.front().y.size()));
@@ -551,14 +557,7 @@ void BenchBlade(int repeats) {
                                 return std::max(worst, std::abs(c.relative_error));
                               }));
   std::vector<double> times;
-  nfrc::Branch branch;
-  for (int repeat = 0; repeat < repeats; ++repeat) {
-    const auto start = Clock::now();
-    auto system = nfrc::BuildSystem(the_case);
-    const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
-    branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
-    times.push_back(Seconds(start));
-  }
+  const nfrc::Branch branch = TimeTraces(the_case, repeats, &times);
   const auto& s = branch.summary;
   const int fallbacks = static_cast<int>(
       std::count_if(s.history.begin(), s.history.end(), [](const nfrc::StepRecord& step) {

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include "support/case_error.h"
 #include "tools/input_fields.h"
 
 namespace nfrc {
@@ -18,14 +19,7 @@ nlohmann::json Duffing() {
     "output": {"dofs": [0]}})");
 }
 
-std::string Error(const nlohmann::json& source) {
-  try {
-    ParseCase(source, ".");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
-}
+std::string Error(const nlohmann::json& source) { return testing::CaseError(source); }
 
 std::string ErrorWith(const std::string& pointer, const nlohmann::json& value) {
   nlohmann::json source = Duffing();

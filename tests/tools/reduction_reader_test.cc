@@ -6,6 +6,7 @@
 #include <string>
 
 #include "models/rod.h"
+#include "support/case_error.h"
 #include "tools/case_file.h"
 
 namespace nfrc {
@@ -25,14 +26,7 @@ nlohmann::json RodCase() {
     "output": {"dofs": [19, "end"]}})");
 }
 
-std::string Error(const nlohmann::json& source) {
-  try {
-    ParseCase(source, ".");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "no error";
-}
+std::string Error(const nlohmann::json& source) { return testing::CaseError(source); }
 
 Eigen::VectorXd Frequencies(const LinearModel& model) {
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(
