@@ -12,7 +12,7 @@ struct BranchPoint {
   Eigen::VectorXd y;
   Eigen::VectorXd tangent_y;  // unscaled components of the unit (scaled) tangent
   double tangent_lambda = 0.0;
-  double step = 0.0;          // scaled arclength from the previous point (0 for the first)
+  double step = 0.0;  // scaled arclength from the previous point (0 for the first)
   int newton_iterations = 0;
   double residual_norm = 0.0;  // ‖R‖ at the point
 };
@@ -21,23 +21,23 @@ struct BranchPoint {
 struct Fold {
   double lambda = 0.0;
   Eigen::VectorXd y;
-  int after_point = 0;             // index of the branch point preceding the fold
+  int after_point = 0;  // index of the branch point preceding the fold
   // Estimated |λ error|: the larger of the λ change between the last two localisation
   // iterates and the quadratic model ½ s_λ τ_λ²/|dτ_λ/ds| (λ is stationary at a fold, so
   // iterates on both sides of it can agree in λ while both are off).
   double lambda_accuracy = 0.0;
-  double tangent_lambda = 0.0;     // λ component of the tangent at the reported point
+  double tangent_lambda = 0.0;  // λ component of the tangent at the reported point
   int iterations = 0;
-  bool converged = false;          // accuracy reached within max_fold_iterations
+  bool converged = false;  // accuracy reached within max_fold_iterations
 };
 
 enum class TerminationReason {
   kReachedLambdaBound,  // left [λ_min, λ_max]; the last point lies on the bound
   kClosedCurve,         // came back to the first point: the branch is a closed curve
   kMaxPoints,
-  kStalled,             // step below min_step and still failing
-  kStartFailed,         // Newton at λ_start did not converge
-  kStoppedByObserver,   // the observer asked to stop (e.g. interrupted)
+  kStalled,            // step below min_step and still failing
+  kStartFailed,        // Newton at λ_start did not converge
+  kStoppedByObserver,  // the observer asked to stop (e.g. interrupted)
 };
 
 const char* ToString(TerminationReason reason);
@@ -61,6 +61,8 @@ struct ContinuationSummary {
   int num_evaluations = 0;  // calls of ContinuationProblem::Evaluate
   double wall_time_seconds = 0.0;
   std::vector<StepRecord> history;
+  // What the engine did beyond its plain algorithm, e.g. an undamped retry of the start.
+  std::vector<std::string> notes;
 
   bool success() const {
     return reason == TerminationReason::kReachedLambdaBound ||

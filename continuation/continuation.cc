@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <optional>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -156,6 +157,26 @@ class Continuer {
     CorrectorResult start =
         CorrectAtFixedLambda(evaluator_, guess_scaling, start_settings, u_guess);
     newton_iterations_ += start.iterations;
+    if (!start.converged && start_settings.line_search) {
+      // Semismooth Newton converges locally where a line search on ‖R‖ can stall at a kink
+      // (seen on friction at N_φ = 640 from the lower-harmonic start): one undamped retry,
+      // which gives up if ‖R‖ grows a hundredfold.
+      NewtonSettings undamped = start_settings;
+      undamped.line_search = false;
+      CorrectorResult retry = CorrectAtFixedLambda(evaluator_, guess_scaling, undamped, u_guess);
+      newton_iterations_ += retry.iterations;
+      if (retry.converged) {
+        retry.failure = start.failure;
+        retry.iterations += start.iterations;
+        start = std::move(retry);
+        branch_.summary.notes.push_back("start: Newton with line search failed (" + start.failure +
+                                        "), converged undamped");
+        if (options_.progress != nullptr)
+          *options_.progress << branch_.summary.notes.back() << '\n';
+      } else {
+        start.failure += "; undamped: " + retry.failure;
+      }
+    }
     if (!start.converged) {
       Finish(TerminationReason::kStartFailed,
              "Newton at " + Describe(options_.lambda_name, lambda) + " from y_guess failed: " +

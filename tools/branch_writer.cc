@@ -157,6 +157,7 @@ nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
           {"newton_iterations", summary.total_newton_iterations},
           {"evaluations", summary.num_evaluations},
           {"wall_time_s", summary.wall_time_seconds},
+          {"notes", summary.notes},
           {"history", history}};
 }
 
