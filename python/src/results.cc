@@ -96,6 +96,7 @@ void BindResults(py::module_& m) {
       .def_readonly("newton_iterations", &ContinuationSummary::total_newton_iterations)
       .def_readonly("evaluations", &ContinuationSummary::num_evaluations)
       .def_readonly("wall_time", &ContinuationSummary::wall_time_seconds)
+      .def_readonly("notes", &ContinuationSummary::notes)
       .def("__repr__", [](const ContinuationSummary& s) {
         return "<nfrc.Summary " + std::string(ToString(s.reason)) + ": " +
                std::to_string(s.num_points) + " points, " + std::to_string(s.num_folds) + " folds>";

@@ -70,6 +70,7 @@ def test_measures_by_name_and_dof(friction_case):
         branch.measure("max_abs", 2)
     s = branch.summary
     assert s.success and s.points == n and s.newton_iterations >= n and s.wall_time > 0
+    assert s.notes == []  # a plain run: no retry or other departure from the algorithm
     assert s.accepted_steps >= n - 1 and s.evaluations > 0 and s.message
 
 
