@@ -5,19 +5,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "analysis/curve_accuracy.h"
 #include "analysis/trace.h"
+#include "tools/bench_common.h"
 #include "tools/case_file.h"
 
 namespace nfrc::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // What the curve's accuracy is judged on: the papers plot the friction curves' energy on a
 // log axis and the contact curves' max |x| of the output DOFs.
@@ -61,7 +59,7 @@ void RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
   the_case.stability.enabled = true;
   const auto start = Clock::now();
   const TraceResult trace = TraceCase(the_case);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double seconds = Seconds(start);
   const ContinuationSummary& s = trace.branch.summary;
   std::printf("%s: %s, %zu points, %d unknowns, %d Newton, %zu bifurcations\n", c.file,
               ToString(s.reason), trace.points.size(), trace.num_unknowns,
@@ -87,7 +85,7 @@ void RunFineFrictionPoint(double lu_unit) {
   the_case.stability.enabled = true;
   const auto start = Clock::now();
   const TraceResult trace = TraceCase(the_case);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double seconds = Seconds(start);
   std::printf("friction point at N_phi = 640, omega = 0.75: %s, %d unknowns, %d Newton\n",
               ToString(trace.branch.summary.reason), trace.num_unknowns,
               trace.branch.summary.total_newton_iterations);

@@ -31,8 +31,6 @@
 //      Craig–Bampton reduction (factorisation, fixed-interface modes) and its eigenfrequency
 //      check, then the NFRC through the first bending resonance: points, time per
 //      continuation step, natural-parameter fallbacks, and the peak resident memory.
-#include <sys/resource.h>
-
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -40,10 +38,8 @@
 #include <complex>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -57,21 +53,17 @@
 #include "models/damping.h"
 #include "models/rod.h"
 #include "tools/bench_acceptance.h"
+#include "tools/bench_blade.h"
+#include "tools/bench_common.h"
 #include "tools/case_file.h"
 #include "validation/make_integrator.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
+using nfrc::bench::Clock;
+using nfrc::bench::Median;
+using nfrc::bench::Seconds;
+using nfrc::bench::TimeTraces;
 
 // The calibration unit: one dense LU with partial pivoting of a fixed 320 × 320 matrix, a
 // plain triple loop compiled with the project's flags. Figures divided by it survive a shared,
@@ -107,20 +99,6 @@ double LuUnitSeconds() {
 }
 
 double g_lu_unit = 0.0;  // s, set once at start
-
-// Builds the system and traces the case `repeats` times (the linear-guess start included),
-// appending each wall time (s); returns the last branch.
-nfrc::Branch TimeTraces(const nfrc::Case& the_case, int repeats, std::vector<double>* times) {
-  nfrc::Branch branch;
-  for (int repeat = 0; repeat < repeats; ++repeat) {
-    const auto start = Clock::now();
-    auto system = nfrc::BuildSystem(the_case);
-    const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
-    branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
-    times->push_back(Seconds(start));
-  }
-  return branch;
-}
 
 void BenchCase(const std::string& name, int repeats) {
   const std::string path = std::string(NFRC_SOURCE_DIR) + "/cases/" + name;
@@ -520,62 +498,7 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
               hill / t_off);
 }
 
-// usage: nfrc_bench [SECTION ...] runs the numbered sections above (default: all).
-// Peak resident memory of the process so far (MB); Linux reports ru_maxrss in kB.
-double PeakMemoryMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;
-}
-
-void BenchBlade(int repeats) {
-  const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/blade";
-  if (!std::filesystem::exists(dir + "/K.mtx") || !std::filesystem::exists(dir + "/M.mtx")) {
-    const auto start = Clock::now();
-    const std::string command = "/usr/bin/python3 " + dir + "/make_blade.py";
-    if (std::system(command.c_str()) != 0) {
-      std::printf("blade: %s failed; section skipped\n", command.c_str());
-      return;
-    }
-    std::printf("blade: matrices generated in %.1f s\n", Seconds(start));
-  }
-  const auto load_start = Clock::now();
-  const nfrc::Case the_case = nfrc::LoadCase(dir + "/blade.json");
-  const double load = Seconds(load_start);
-  const nfrc::ReductionReport& r = *the_case.reduction;
-  const double read = load - r.time_s - r.check_time_s;
-  std::printf("blade: %d DOFs -> %d boundary + %d modes\n", r.full_dofs, r.boundary_dofs, r.modes);
-  std::printf("  read K, M + case   %.0f ms = %.0f LU(320)\n", 1e3 * read, read / g_lu_unit);
-  std::printf(
-      "  reduction          %.0f ms = %.0f LU(320) (factor + constraint modes %.0f ms,"
-      " fixed-interface modes %.0f ms)\n",
-      1e3 * r.time_s, r.time_s / g_lu_unit, 1e3 * r.factor_s, 1e3 * r.modes_s);
-  std::printf("  eigenvalue check   %.0f ms = %.0f LU(320) (%zu frequencies, worst error %.1e)\n",
-              1e3 * r.check_time_s, r.check_time_s / g_lu_unit, r.eigenfrequencies.size(),
-              std::accumulate(r.eigenfrequencies.begin(), r.eigenfrequencies.end(), 0.0,
-                              [](double worst, const nfrc::EigenfrequencyCheck& c) {
-                                return std::max(worst, std::abs(c.relative_error));
-                              }));
-  std::vector<double> times;
-  const nfrc::Branch branch = TimeTraces(the_case, repeats, &times);
-  const auto& s = branch.summary;
-  const int fallbacks = static_cast<int>(
-      std::count_if(s.history.begin(), s.history.end(), [](const nfrc::StepRecord& step) {
-        return step.note.find("natural-parameter") != std::string::npos;
-      }));
-  const double t = Median(times);
-  std::printf(
-      "  NFRC               %.0f ms = %.0f LU(320) (median of %d): %s, %d points, %d folds,"
-      " %d natural-parameter steps\n",
-      1e3 * t, t / g_lu_unit, repeats, nfrc::ToString(s.reason), s.num_points, s.num_folds,
-      fallbacks);
-  std::printf("  per step           %.2f ms = %.2f LU(320); Newton/point %.2f\n",
-              1e3 * t / std::max(1, s.num_points - 1),
-              t / std::max(1, s.num_points - 1) / g_lu_unit,
-              static_cast<double>(s.total_newton_iterations) / s.num_points);
-  std::printf("  peak memory        %.0f MB (process so far)\n", PeakMemoryMb());
-}
-
+// usage: nfrc_bench [SECTION ...] [accuracy] runs the numbered sections above (default: all).
 int main(int argc, char** argv) {
   std::vector<int> sections;
   bool accuracy = false;
@@ -618,6 +541,6 @@ int main(int argc, char** argv) {
     BenchStability("rod/flexible_4krod.json", 0, 0);
   }
   if (run(9)) nfrc::bench::BenchAcceptance(LuUnitSeconds, accuracy);
-  if (run(10)) BenchBlade(3);
+  if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   return 0;
 }
