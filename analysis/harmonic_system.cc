@@ -164,14 +164,15 @@ std::vector<int> HarmonicSystem::ScaleGroups() const {
   return groups;
 }
 
-// Weight of the laws' own unknowns in the step's turn test. Measured on the Fig. 7 curve
-// (N = 10, N_φ = 60; largest deviation of ln E from a curve traced with a tenth of the
-// step): weight 1 → 1223 points, 6.3e-4; 0.3 → 954, 5.8e-4; 0.1 → 761, 9.2e-4; 0 → 662,
-// 4.2e-3 (the resonance's cusp is no longer resolved). 0.3 keeps the accuracy.
-constexpr double kOwnUnknownStepWeight = 0.3;
+void HarmonicSystem::set_own_step_weight(double weight) {
+  if (!(weight >= 0.0 && weight <= 1.0)) {
+    throw std::invalid_argument("own_step_weight: must lie in [0, 1]");
+  }
+  own_step_weight_ = weight;
+}
 
 Eigen::VectorXd HarmonicSystem::StepWeights() const {
-  Eigen::VectorXd weights = Eigen::VectorXd::Constant(num_unknowns_, kOwnUnknownStepWeight);
+  Eigen::VectorXd weights = Eigen::VectorXd::Constant(num_unknowns_, own_step_weight_);
   weights.head(num_displacement_unknowns_).setOnes();
   return weights;
 }

@@ -190,21 +190,10 @@ void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& co
 
 Eigen::MatrixXd FourierTransform::TimesDerivative(
     const Eigen::Ref<const Eigen::MatrixXd>& m) const {
-  CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
-  Eigen::MatrixXd product(m.rows(), m.cols());
-  for (int p = 0; p < set_.num_harmonics(); ++p) {
-    const int k = set_.harmonics()[p];
-    const int ic = set_.CosIndex(p);
-    if (k == 0) {
-      product.col(ic).setZero();
-      continue;
-    }
-    const int is = set_.SinIndex(p);
-    // D(ic, is) = k and D(is, ic) = −k are its only entries in these columns.
-    product.col(is) = k * m.col(ic);
-    product.col(ic) = -k * m.col(is);
-  }
-  return product;
+  // D is antisymmetric: m·D = (Dᵀmᵀ)ᵀ = −(D·mᵀ)ᵀ, one Differentiate of the rows of m.
+  Eigen::MatrixXd rows = m.transpose();
+  Differentiate(rows, rows);
+  return -rows.transpose();
 }
 
 Eigen::MatrixXd FourierTransform::WeightedProduct(

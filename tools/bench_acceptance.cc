@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "analysis/curve_accuracy.h"
+#include "analysis/harmonic_system.h"
+#include "analysis/point_measures.h"
 #include "analysis/trace.h"
 #include "tools/bench_common.h"
 #include "tools/case_file.h"
@@ -120,7 +122,51 @@ void InChild(Body body) {
   std::printf("  peak memory %.1f MB\n", usage.ru_maxrss / 1024.0);  // ru_maxrss is in KiB
 }
 
+// The Fig. 7 curve (N = 10) traced with own-unknown step weight `weight`, as the plotted
+// ln E curve; its wall time (s), Newton iterations and points through the pointers.
+PlottedCurve TraceWithWeight(const Case& the_case, double weight, double* seconds, int* newton) {
+  const auto start = Clock::now();
+  auto system = BuildSystem(the_case);
+  system->set_own_step_weight(weight);
+  const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
+  *seconds = Seconds(start);
+  *newton = branch.summary.total_newton_iterations;
+  PointAnalyzer analyzer(*system, the_case.output_dofs);
+  PlottedCurve curve;
+  curve.log_scale = true;
+  curve.measures.resize(1);
+  for (const BranchPoint& p : branch.points) {
+    curve.omega.push_back(p.lambda);
+    curve.measures[0].push_back(analyzer.Measure(p.y, p.lambda).energy);
+  }
+  return curve;
+}
+
 }  // namespace
+
+void BenchStepWeights(double lu_unit) {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/friction/frc_n10.json");
+  Case fine = the_case;
+  ContinuationOptions& options = fine.continuation;
+  options.max_step /= 10.0;
+  options.initial_step = std::min(options.initial_step, options.max_step);
+  options.max_points *= 20;
+  double seconds = 0.0;
+  int newton = 0;
+  // The reference with full weight: the most conservative steps, a tenth as long.
+  const PlottedCurve reference = TraceWithWeight(fine, 1.0, &seconds, &newton);
+  std::printf(
+      "friction/frc_n10.json, step weight of the friction force (stability off; "
+      "reference: %zu points at a tenth of the step)\n",
+      reference.omega.size());
+  for (const double weight : {1.0, 0.3, 0.1, 0.0}) {
+    const PlottedCurve curve = TraceWithWeight(the_case, weight, &seconds, &newton);
+    std::printf("  weight %.1f: %zu points, %d Newton, %.1f ms = %.1f LU(320), accuracy %.2e\n",
+                weight, curve.omega.size(), newton, 1e3 * seconds, seconds / lu_unit,
+                CurveDeviation(reference, curve));
+  }
+}
 
 void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy) {
   const std::vector<AcceptanceCase> cases = {

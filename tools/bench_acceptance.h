@@ -12,4 +12,9 @@ namespace nfrc::bench {
 // with a tenth of the maximum step (see CurveDeviation). Also one friction point at N_φ = 640.
 void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy);
 
+// Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
+// friction force's step weights 1, 0.3 (the default), 0.1 and 0 (HarmonicSystem::
+// set_own_step_weight), against the curve traced with a tenth of the step.
+void BenchStepWeights(double lu_unit);
+
 }  // namespace nfrc::bench

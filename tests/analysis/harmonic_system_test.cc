@@ -4,7 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "analysis/case.h"
 #include "nonlinearities/jacobian_check.h"
@@ -72,6 +74,21 @@ TEST_CASE("harmonic system: the assembled R_y and R_omega match finite differenc
     CHECK(check.y_error < kJacobianTolerance);
     CHECK(check.omega_error < kJacobianTolerance);
   }
+}
+
+TEST_CASE("harmonic system: step weights are 1 on displacements and own_step_weight elsewhere") {
+  const auto system = BuildSystem(ChainWithEveryLaw());
+  const int nx = system->num_displacement_unknowns();
+  REQUIRE(system->NumUnknowns() > nx);  // the friction law has its own unknowns
+  for (const double weight : {0.3, 0.0, 1.0}) {
+    if (weight != 0.3) system->set_own_step_weight(weight);  // 0.3 is the default
+    const Eigen::VectorXd w = system->StepWeights();
+    CHECK(w.head(nx).isOnes());
+    CHECK(w.tail(w.size() - nx).isConstant(weight));
+  }
+  CHECK_THROWS_WITH_AS(system->set_own_step_weight(1.5), "own_step_weight: must lie in [0, 1]",
+                       std::invalid_argument);
+  CHECK_THROWS_AS(system->set_own_step_weight(std::nan("")), std::invalid_argument);
 }
 
 TEST_CASE("harmonic system: a case built in memory is copied and rebuilt with fewer harmonics") {
