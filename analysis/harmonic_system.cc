@@ -154,6 +154,50 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
   }
 }
 
+std::vector<std::vector<int>> HarmonicSystem::EliminationBlocks() const {
+  if (num_unknowns_ == num_displacement_unknowns_) return {};
+  for (const auto& law : laws_) {
+    if (law->WritesDisplacementBlock()) return {};
+  }
+  const HarmonicSet& set = harmonic_set();
+  const int nc = set.NumCoefficients();
+  const int nr = num_displacement_unknowns_ / nc;
+  std::vector<std::vector<int>> blocks;
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    std::vector<int> block;
+    for (int r = 0; r < nr; ++r) {
+      block.push_back(r * nc + set.CosIndex(p));
+      if (set.harmonics()[p] != 0) block.push_back(r * nc + set.SinIndex(p));
+    }
+    blocks.push_back(std::move(block));
+  }
+  return blocks;
+}
+
+double HarmonicSystem::ResidualNoise(const Eigen::VectorXd& y, double omega) {
+  try {
+    MoveTo(omega);
+    const Condensation::Rounding rounding = condensation_.EstimateRounding();
+    const HarmonicSet& set = harmonic_set();
+    const int nc = set.NumCoefficients();
+    const int nr = condensation_.num_retained();
+    double sum = 0.0;
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      const bool constant = set.harmonics()[p] == 0;
+      Eigen::VectorXd amplitude(nr);  // |X| = √(a² + b²) of each retained DOF
+      for (int j = 0; j < nr; ++j) {
+        const double a = y(j * nc + set.CosIndex(p));
+        const double b = constant ? 0.0 : y(j * nc + set.SinIndex(p));
+        amplitude(j) = std::hypot(a, b);
+      }
+      sum += (rounding.z[p] * amplitude + rounding.f[p]).squaredNorm();
+    }
+    return std::sqrt(sum);
+  } catch (const std::runtime_error&) {
+    return 0.0;  // no estimate where the operator cannot be formed
+  }
+}
+
 std::vector<int> HarmonicSystem::ScaleGroups() const {
   std::vector<int> groups(num_unknowns_, 0);
   for (size_t i = 0; i < laws_.size(); ++i) {

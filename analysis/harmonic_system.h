@@ -34,6 +34,14 @@ class HarmonicSystem : public ContinuationProblem {
   // user reads is the motion's, while a law's own unknowns (a friction force's harmonics)
   // jump at every sample that switches branch and shrink the step at each kink.
   Eigen::VectorXd StepWeights() const override;
+  // One block per harmonic (its cosine and sine coefficients of every retained DOF) when no
+  // law writes into the displacement block and some law has own unknowns: the linear part is
+  // then all of that block, and eliminating it leaves a dense solve on the laws' unknowns
+  // (half the size for a friction force on one DOF).
+  std::vector<std::vector<int>> EliminationBlocks() const override;
+  // ‖(|δZ| |X| + |δF|)‖ over the displacement rows, from Condensation::EstimateRounding at
+  // ω: the rounding of the condensed operator (large on fine meshes), which moves with ω.
+  double ResidualNoise(const Eigen::VectorXd& y, double omega) override;
   // The default 0.3 keeps the accuracy of the Fig. 7 curves with fewer points than 1;
   // `nfrc_bench 11` prints points and accuracy for 1, 0.3, 0.1 and 0. Throws
   // std::invalid_argument outside [0, 1].

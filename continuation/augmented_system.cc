@@ -23,7 +23,11 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
   return a;
 }
 
-bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                    const EliminationBlocks* elimination) {
+  if (elimination != nullptr && !elimination->empty() && SolveEliminating(a, b, *elimination, x)) {
+    return true;
+  }
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
   const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
   if (pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff()) {

@@ -15,6 +15,9 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
 
 // Solves a x = b by one partial-pivoting LU of the whole matrix; falls back to a
 // full-pivoting LU when that LU is (numerically) singular. False if x is not finite.
-bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+// With `elimination` (the Jacobian's blocks, whose indices are the same in the augmented
+// matrix), SolveEliminating is tried first.
+bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                    const EliminationBlocks* elimination = nullptr);
 
 }  // namespace nfrc

@@ -119,6 +119,12 @@ class Continuer {
       ++(record.accepted ? summary.num_accepted_steps : summary.num_rejected_steps);
     }
     summary.total_newton_iterations = newton_iterations_;
+    if (noise_floor_steps_ > 0) {
+      summary.notes.push_back(std::to_string(noise_floor_steps_) +
+                              " steps converged at the residual's rounding floor (above "
+                              "residual_tolerance, within " +
+                              Number(kNoiseFactor) + " times the problem's estimate)");
+    }
     summary.num_evaluations = evaluator_.num_evaluations();
     summary.wall_time_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
@@ -243,6 +249,7 @@ class Continuer {
       if (std::optional<double> next = NaturalStep(h, tangent_scaled, record)) return next;
       return Reject(std::move(record), corrected.failure);
     }
+    NoteNoiseFloor(corrected, record);
 
     Eigen::VectorXd new_tangent;
     if (!NextTangent(corrected.linearization, scaling_, settings_.residual_scale, tangent_scaled,
@@ -306,6 +313,7 @@ class Continuer {
     if (!solved.converged || scaling_.Norm(solved.u - u_) > kNaturalReach * h) {
       return std::nullopt;
     }
+    NoteNoiseFloor(solved, record);
     const Eigen::VectorXd secant = scaling_.ToScaled(solved.u - u_).normalized();
     Eigen::VectorXd new_tangent;
     if (!NextTangent(solved.linearization, scaling_, settings_.residual_scale, secant,
@@ -321,6 +329,16 @@ class Continuer {
     angle_rejection_.reset();
     Accept(std::move(record), point, solved.u, new_tangent);
     return controller_.AfterSuccess(h, solved.iterations, 0.0);
+  }
+
+  // A correction accepted at the residual's rounding floor, above residual_tolerance: said in
+  // the step's record and counted for the summary's notes.
+  void NoteNoiseFloor(const CorrectorResult& corrected, StepRecord& record) {
+    if (!corrected.at_noise_floor) return;
+    ++noise_floor_steps_;
+    record.note =
+        "converged at the residual's rounding floor: |R| = " + Number(corrected.residual_norm) +
+        ", floor " + Number(corrected.noise_floor);
   }
 
   // Angle between two unit scaled tangents, in the problem's step weights when it has them
@@ -453,6 +471,7 @@ class Continuer {
   std::optional<AngleRejection> angle_rejection_;
   bool finished_ = false;
   int newton_iterations_ = 0;
+  int noise_floor_steps_ = 0;
   std::string last_failure_;
 };
 

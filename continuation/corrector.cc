@@ -20,6 +20,8 @@ constexpr double kDivergenceGrowth = 1e2;
 // direction of ‖R‖), the full step is taken once; the merit must then fall below its value
 // before that step within this many further iterations, or the correction fails.
 constexpr int kWatchdogIterations = 3;
+// A residual that falls by less than this factor in one iteration has stalled.
+constexpr double kStallRatio = 0.5;
 
 enum class Constraint { kArclength, kFixedLambda };
 
@@ -55,6 +57,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   result.residual_norm = result.linearization.residual.norm();
 
   Linearization trial_linearization;
+  // The problem's rounding floor of ‖R‖, asked for once, from the second iteration on.
+  double noise = -1.0;
   // Merit before a watchdog step and the iteration by which it must be beaten.
   bool watching = false;
   double watchdog_merit = 0.0;
@@ -64,8 +68,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     rhs.head(n) = -result.linearization.residual / r;
     rhs(n) = -constraint_residual(result.u);
     Eigen::VectorXd step_scaled;
-    if (!SolveAugmented(AugmentedMatrix(result.linearization, scaling, r, row), rhs,
-                        &step_scaled)) {
+    if (!SolveAugmented(AugmentedMatrix(result.linearization, scaling, r, row), rhs, &step_scaled,
+                        result.linearization.elimination.get())) {
       return Fail(std::move(result), "augmented system not solvable");
     }
     result.iterations = iteration;
@@ -73,9 +77,14 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     const double update_norm = step_scaled.norm();
     const Eigen::VectorXd step = scaling.FromScaled(step_scaled);
 
-    // Near convergence rounding can stop the merit from decreasing: take full steps there.
+    // Near convergence rounding can stop the merit from decreasing: take full steps there,
+    // and at the problem's noise floor (where a damped step would only halve into noise).
+    if (iteration >= 2 && noise < 0.0 && result.residual_norm > settings.residual_tolerance * r) {
+      noise = evaluator.ResidualNoise(result.u);
+    }
+    const bool at_floor = noise > 0.0 && result.residual_norm <= kNoiseFactor * noise;
     const bool damp =
-        settings.line_search && result.residual_norm > settings.residual_tolerance * r;
+        settings.line_search && result.residual_norm > settings.residual_tolerance * r && !at_floor;
     double alpha = 1.0;
     Eigen::VectorXd trial;
     double trial_merit = 0.0;
@@ -107,6 +116,7 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
       }
       alpha *= 0.5;
     }
+    const double previous_residual = result.residual_norm;
     result.u = trial;
     std::swap(result.linearization, trial_linearization);
     result.residual_norm = result.linearization.residual.norm();
@@ -125,6 +135,15 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
         result.residual_norm <= settings.residual_tolerance * r) {
       result.converged = true;
       return result;
+    }
+    if (iteration >= 2 && result.residual_norm > settings.residual_tolerance * r &&
+        result.residual_norm > kStallRatio * previous_residual) {
+      if (result.residual_norm <= kNoiseFactor * noise) {
+        result.converged = true;
+        result.at_noise_floor = true;
+        result.noise_floor = noise;
+        return result;
+      }
     }
   }
   return Fail(std::move(result),

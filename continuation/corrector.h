@@ -22,8 +22,20 @@ struct CorrectorResult {
   Linearization linearization;  // R and its Jacobians at u
   int iterations = 0;           // linear solves done
   double residual_norm = 0.0;   // ‖R(u)‖, unscaled
-  std::string failure;          // why it did not converge
+  // Converged above residual_tolerance, within kNoiseFactor of the problem's estimate of
+  // the residual's rounding floor (ContinuationProblem::ResidualNoise), which is recorded.
+  bool at_noise_floor = false;
+  double noise_floor = 0.0;
+  std::string failure;  // why it did not converge
 };
+
+// Newton stops when the scaled update and the residual are below their tolerances, or, where
+// the residual stalls above its tolerance (falls by less than half in an iteration), when it
+// lies within kNoiseFactor of the rounding floor the problem estimates: λ moves at every
+// arclength iteration, and a condensed operator whose rounding moves with λ (a fine mesh)
+// sets a floor no Newton step can go below. Within kNoiseFactor of that floor the line search
+// is off (a damped step would only halve into the noise).
+inline constexpr double kNoiseFactor = 10.0;
 
 // Pseudo-arclength corrector: Newton on R(u) = 0, τᵀ D⁻¹(u − u_pred) = 0 from u_pred, with
 // τ the unit scaled tangent, each step solving the whole scaled bordered system by one LU.

@@ -7,6 +7,11 @@ namespace nfrc {
 
 Evaluator::Evaluator(ContinuationProblem& problem) : problem_(problem), n_(problem.NumUnknowns()) {
   if (n_ < 1) throw std::invalid_argument("ContinuationProblem: NumUnknowns() must be positive");
+  EliminationBlocks blocks = problem.EliminationBlocks();
+  if (!blocks.empty()) {
+    ValidateEliminationBlocks(blocks, n_);
+    elimination_ = std::make_shared<const EliminationBlocks>(std::move(blocks));
+  }
 }
 
 bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
@@ -15,6 +20,7 @@ bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
   result->residual.setZero(n_);
   result->jacobian_y.setZero(n_, n_);
   result->jacobian_lambda.setZero(n_);
+  result->elimination = elimination_;
   const Eigen::VectorXd y = u.head(n_);
   if (!problem_.Evaluate(y, u(n_), &result->residual, &result->jacobian_y,
                          &result->jacobian_lambda)) {
@@ -24,6 +30,11 @@ bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
          result->jacobian_y.cols() == n_ && result->jacobian_lambda.size() == n_ &&
          result->residual.allFinite() && result->jacobian_y.allFinite() &&
          result->jacobian_lambda.allFinite();
+}
+
+double Evaluator::ResidualNoise(const Eigen::VectorXd& u) {
+  const double noise = problem_.ResidualNoise(u.head(n_), u(n_));
+  return std::isfinite(noise) && noise > 0.0 ? noise : 0.0;
 }
 
 bool Evaluator::Residual(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual) {

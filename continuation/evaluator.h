@@ -1,7 +1,9 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 
+#include "continuation/block_elimination.h"
 #include "continuation/problem.h"
 
 namespace nfrc {
@@ -11,6 +13,8 @@ struct Linearization {
   Eigen::VectorXd residual;
   Eigen::MatrixXd jacobian_y;
   Eigen::VectorXd jacobian_lambda;
+  // The problem's EliminationBlocks (null: none), for the linear solves with this Jacobian.
+  std::shared_ptr<const EliminationBlocks> elimination;
 };
 
 // Calls ContinuationProblem::Evaluate on stacked points u = (y, λ), counts the calls and
@@ -24,12 +28,15 @@ class Evaluator {
 
   // Residual and both Jacobians at u (size n + 1); false when they are not available.
   bool Linearize(const Eigen::VectorXd& u, Linearization* result);
+  // ContinuationProblem::ResidualNoise at u; 0 where it is not a finite number >= 0.
+  double ResidualNoise(const Eigen::VectorXd& u);
   // Residual only.
   bool Residual(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual);
 
  private:
   ContinuationProblem& problem_;
   int n_;
+  std::shared_ptr<const EliminationBlocks> elimination_;
   int num_evaluations_ = 0;
 };
 

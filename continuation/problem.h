@@ -28,6 +28,20 @@ class ContinuationProblem {
   // (the top harmonics of a friction force) can be weighed down, so that the step follows
   // the curvature of the smooth pieces instead of shrinking at each kink.
   virtual Eigen::VectorXd StepWeights() const { return {}; }
+
+  // Groups of unknowns whose rows and columns of ∂R/∂y are block diagonal among themselves
+  // (a group couples with no other group, only with itself and the other unknowns), each
+  // small: the engine then solves its linear systems by eliminating them, per-group LUs and
+  // one dense LU of the Schur complement on the rest. E.g. the harmonics of a condensed
+  // linear part where the laws enter only through their own unknowns (friction forces).
+  // Default: none (one dense LU of everything).
+  virtual std::vector<std::vector<int>> EliminationBlocks() const { return {}; }
+
+  // Estimated rounding noise of ‖R(y, λ)‖ (units of R): the floor below which no Newton
+  // step can push the residual while λ moves, e.g. the rounding of a condensed operator of
+  // a fine mesh, which changes with every λ. Default 0: no noise beyond eps·‖R's terms‖.
+  // Asked for only when a corrector stalls above its residual tolerance.
+  virtual double ResidualNoise(const Eigen::VectorXd& /*y*/, double /*lambda*/) { return 0.0; }
 };
 
 }  // namespace nfrc

@@ -27,7 +27,8 @@ bool NextTangent(const Linearization& linearization, const Scaling& scaling, dou
   const int n = scaling.num_unknowns();
   Eigen::VectorXd solution;
   if (!SolveAugmented(AugmentedMatrix(linearization, scaling, residual_scale, previous_scaled),
-                      Eigen::VectorXd::Unit(n + 1, n), &solution)) {
+                      Eigen::VectorXd::Unit(n + 1, n), &solution,
+                      linearization.elimination.get())) {
     return false;
   }
   const double norm = solution.norm();

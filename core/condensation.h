@@ -33,6 +33,16 @@ class Condensation {
   Condensation(Condensation&&) noexcept;
   Condensation& operator=(Condensation&&) noexcept;
 
+  // The static split (default on): the stiffness part of the Schur complement is condensed
+  // once, through the static modes −K_ll⁻¹K_lr, and only the mass and damping terms at each
+  // ω. On fine meshes, where K_rr and K_rl K_ll⁻¹ K_lr cancel to many digits, this keeps
+  // the rounding of Z_red(ω) from moving with ω (10⁵-element rod: 1.5e3 → see
+  // tests/core/condensation_chain_test.cc). It is used when K_ll is regular; otherwise (a
+  // mechanism once the retained DOFs are held) the direct form is. Set before Update.
+  void set_static_split(bool on);
+  // Whether the last Update used the static split.
+  bool static_split() const;
+
   // Factorises and condenses at ω (no-op if already at ω). Throws std::runtime_error
   // naming the harmonic and ω if Z_ll is singular there.
   void Update(double omega);
@@ -57,6 +67,16 @@ class Condensation {
   const Eigen::MatrixXcd& dZ(int position) const;
   const Eigen::VectorXcd& F(int position) const;
   const Eigen::VectorXcd& dF(int position) const;
+
+  // Estimated rounding of Z and F at the current ω, per harmonic position: entry-wise
+  // magnitudes |B δY| of the error that a step of iterative refinement finds in the interior
+  // solves Y = Z_ll⁻¹ b (δY = Z_ll⁻¹ (b − Z_ll Y), B the rows that multiply Y), in the units
+  // of Z and F. Two solves per harmonic: for a stalled corrector, not every evaluation.
+  struct Rounding {
+    std::vector<Eigen::MatrixXd> z;
+    std::vector<Eigen::VectorXd> f;
+  };
+  Rounding EstimateRounding() const;
 
   // Real forms in the condensed unknown layout (after Update): the linear residual of the
   // condensed problem is RealOperator()·x − RealForcing().

@@ -119,6 +119,12 @@ class Nonlinearity {
   // (they are in metres) rather than as a group of their own.
   virtual bool OwnUnknownsScaleLikeDisplacements() const { return false; }
 
+  // Whether Evaluate writes into the displacement rows' displacement columns of the Jacobian
+  // (∂f_law/∂x). A law that enters the equations of motion only through its own unknowns
+  // (a friction force) returns false, which leaves that block the linear part's: block
+  // diagonal per harmonic, so the engine eliminates it (HarmonicSystem::EliminationBlocks).
+  virtual bool WritesDisplacementBlock() const { return true; }
+
   // Throws std::invalid_argument naming the case field if Newton-based continuation cannot
   // follow the law with this harmonic set (e.g. a sampled complementarity that needs a square
   // Fourier matrix). Default: it can.

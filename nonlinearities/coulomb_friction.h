@@ -27,6 +27,8 @@ class CoulombFriction : public Nonlinearity {
   std::string type() const override { return "coulomb_friction"; }
   std::vector<int> Dofs() const override;
   int NumOwnUnknowns(const HarmonicSet& set) const override { return set.NumCoefficients(); }
+  // The force enters the equations of motion as −r̃ (+r̃ on `other`): no ∂/∂x there.
+  bool WritesDisplacementBlock() const override { return false; }
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;

@@ -91,6 +91,55 @@ TEST_CASE("harmonic system: step weights are 1 on displacements and own_step_wei
   CHECK_THROWS_AS(system->set_own_step_weight(std::nan("")), std::invalid_argument);
 }
 
+TEST_CASE("harmonic system: elimination blocks where only friction forces enter the motion") {
+  // Every law kind: the contact and spring laws write ∂f/∂x, so nothing is eliminated.
+  CHECK(BuildSystem(ChainWithEveryLaw())->EliminationBlocks().empty());
+
+  // Friction alone (two laws, one relative): one block per harmonic, and the Jacobian at a
+  // random point couples no two blocks (the promise the engine's Schur complement needs).
+  Case c = testing::ChainCase(5);
+  c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
+  c.harmonics = HarmonicSet(3, false, 32);
+  CoulombFrictionSpec friction;
+  friction.dof = 1;
+  friction.mu = 0.3;
+  friction.normal_load = 0.5;
+  c.laws.push_back(friction);
+  friction.dof = 3;
+  friction.other = 4;
+  c.laws.push_back(friction);
+  c.continuation.lambda_start = 0.8;
+  c.continuation.lambda_end = 1.6;
+  c.output_dofs = {0};
+  c.output_names = {"0"};
+  const auto system = BuildSystem(c);
+  const std::vector<std::vector<int>> blocks = system->EliminationBlocks();
+  REQUIRE(blocks.size() == 4);  // harmonics 0..3
+  std::vector<int> block_of(system->NumUnknowns(), -1);
+  int covered = 0;
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    for (const int i : blocks[k]) {
+      block_of[i] = static_cast<int>(k);
+      ++covered;
+    }
+  }
+  CHECK(covered == system->num_displacement_unknowns());
+  std::mt19937 random(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd y = system->InitialGuess(1.1);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += 0.05 * normal(random);
+  Eigen::VectorXd residual, d_omega;
+  Eigen::MatrixXd jacobian;
+  REQUIRE(system->Evaluate(y, 1.1, &residual, &jacobian, &d_omega));
+  for (int i = 0; i < system->NumUnknowns(); ++i) {
+    for (int j = 0; j < system->NumUnknowns(); ++j) {
+      if (block_of[i] >= 0 && block_of[j] >= 0 && block_of[i] != block_of[j]) {
+        CHECK(jacobian(i, j) == 0.0);
+      }
+    }
+  }
+}
+
 TEST_CASE("harmonic system: a case built in memory is copied and rebuilt with fewer harmonics") {
   Case fine = ChainWithEveryLaw();
   Case coarse = fine;

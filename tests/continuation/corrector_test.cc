@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "continuation/augmented_system.h"
 #include "test_problems.h"
@@ -163,6 +165,85 @@ TEST_CASE("corrector: a failing Evaluate is a failed correction, not a point") {
   CHECK_FALSE(result.converged);
   CHECK(result.failure.find("evaluation failed") != std::string::npos);
   CHECK(evaluator.num_evaluations() == 1);
+}
+
+// R = y − λ + η(λ): a line whose residual carries a deterministic noise η of amplitude
+// kNoise that changes with every λ (a hash of λ's bits), as the rounding of a fine mesh's
+// condensed operator does. `estimate` is what ResidualNoise reports.
+class NoisyLineProblem : public ContinuationProblem {
+ public:
+  static constexpr double kNoise = 1e-6;
+  explicit NoisyLineProblem(double estimate) : estimate_(estimate) {}
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    uint64_t bits = 0;
+    std::memcpy(&bits, &lambda, sizeof bits);
+    bits = (bits ^ (bits >> 31)) * 0x9E3779B97F4A7C15ull;
+    const double eta = kNoise * (static_cast<double>(bits >> 11) * 0x1.0p-53 - 0.5);
+    (*residual)(0) = y(0) - lambda + eta;
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 1.0;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = -1.0;
+    return true;
+  }
+  double ResidualNoise(const Eigen::VectorXd&, double) override { return estimate_; }
+
+ private:
+  double estimate_;
+};
+
+TEST_CASE("corrector: a residual that stalls at the problem's noise floor is converged there") {
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;  // tolerance 1e-8, two decades below the noise
+  // The arclength row moves λ at every iteration, so the noise re-rolls: without an
+  // estimate the corrector cannot converge.
+  const Eigen::Vector2d predicted(0.3, 0.2);
+  const Eigen::Vector2d tangent = Eigen::Vector2d(1.0, 1.0).normalized();
+  NoisyLineProblem unaware(0.0);
+  Evaluator unaware_evaluator(unaware);
+  const CorrectorResult failed =
+      CorrectOnArclength(unaware_evaluator, UnitScaling(1), settings, predicted, tangent);
+  CHECK_FALSE(failed.converged);
+
+  NoisyLineProblem aware(NoisyLineProblem::kNoise);
+  Evaluator aware_evaluator(aware);
+  const CorrectorResult result =
+      CorrectOnArclength(aware_evaluator, UnitScaling(1), settings, predicted, tangent);
+  REQUIRE(result.converged);
+  CHECK(result.at_noise_floor);
+  CHECK(result.noise_floor == NoisyLineProblem::kNoise);
+  CHECK(result.residual_norm <= kNoiseFactor * NoisyLineProblem::kNoise);
+  // On the line y = λ to the noise (|η| ≤ kNoise / 2), and on the arclength hyperplane.
+  CHECK(std::abs(result.u(0) - result.u(1)) <= NoisyLineProblem::kNoise);
+  CHECK(std::abs(tangent.dot(result.u - predicted)) < kRoundoff);
+  // Few iterations: the first step lands on the line, the next shows the stall.
+  CHECK(result.iterations <= 3);
+}
+
+TEST_CASE("corrector: a noise estimate does not loosen a residual that still converges") {
+  // R = atan(y) − λ has no noise: with a (wrong) estimate of 1e-3 the corrector still
+  // converges to the tolerance, because its residual never stalls above it.
+  ArctanProblem plain;
+  class Claimed : public ContinuationProblem {
+   public:
+    explicit Claimed(ArctanProblem& inner) : inner_(inner) {}
+    int NumUnknowns() const override { return 1; }
+    bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* jy,
+                  Eigen::VectorXd* jl) override {
+      return inner_.Evaluate(y, lambda, r, jy, jl);
+    }
+    double ResidualNoise(const Eigen::VectorXd&, double) override { return 1e-3; }
+
+   private:
+    ArctanProblem& inner_;
+  } claimed(plain);
+  Evaluator evaluator(claimed);
+  NewtonSettings settings;
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, UnitScaling(1), settings, Eigen::Vector2d(0.5, 0.2));
+  REQUIRE(result.converged);
+  CHECK_FALSE(result.at_noise_floor);
+  CHECK(std::abs(std::atan(result.u(0)) - 0.2) <= settings.residual_tolerance);
 }
 
 }  // namespace

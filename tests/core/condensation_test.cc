@@ -258,6 +258,26 @@ TEST_CASE("Condensation rejects bad input") {
                        std::invalid_argument);
 }
 
+TEST_CASE("Condensation with a stiffness-free interior DOF uses the direct form") {
+  // DOF 1 is tied to DOF 0 by a damper only: K_ll = 0, so there are no static modes, while
+  // Z_ll = −Ω²m + iΩc is regular for the odd harmonics.
+  LinearModel model;
+  const Eigen::Matrix3d k{{2.0, 0.0, -1.0}, {0.0, 0.0, 0.0}, {-1.0, 0.0, 1.5}};
+  const Eigen::Matrix3d c{{0.3, -0.3, 0.0}, {-0.3, 0.3, 0.0}, {0.0, 0.0, 0.05}};
+  model.stiffness = k.sparseView();
+  model.damping = c.sparseView();
+  model.mass = Eigen::Vector3d(1.0, 0.5, 1.0).asDiagonal().toDenseMatrix().sparseView();
+  const HarmonicSet set(3, true);
+  // A 3-DOF model solved two ways agrees to rounding (~1e-15); 1e-10 as for the random ones.
+  constexpr double kSmallModelTol = 1e-10;
+  const std::vector<ForcingTerm> forcing = {{.dof = 1, .harmonic = 1, .cos = 1.0, .sin = 0.2}};
+  Condensation condensation(model, {0, 2}, set, forcing);
+  condensation.Update(0.9);
+  CHECK_FALSE(condensation.static_split());
+  CheckAgainstFullSolve(model, {0, 2}, set, forcing, Method::kAuto, 0.9, kSmallModelTol);
+  CheckDerivatives(model, {0, 2}, set, forcing, Method::kAuto, 0.9);
+}
+
 TEST_CASE("Condensation reports a singular Z_ll with harmonic and frequency") {
   // Condensed DOF 1: k = 4, m = 1, no damping, so Z_ll of harmonic 1 vanishes at ω = 2.
   LinearModel model;

@@ -1,0 +1,26 @@
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace nfrc {
+
+// Groups of unknowns whose rows and columns of a matrix are block diagonal among themselves
+// (ContinuationProblem::EliminationBlocks): each group couples with no other group's
+// unknowns, only with itself and with the rest.
+using EliminationBlocks = std::vector<std::vector<int>>;
+
+// Throws std::invalid_argument if an index is outside [0, n) or in two blocks.
+void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n);
+
+// Solves a x = b by eliminating the blocks' unknowns: one small LU per block, then the Schur
+// complement on the other unknowns (and the border row of an augmented matrix), which is all
+// that is factorised densely. Only the columns of a block's coupling to the rest that are
+// non-zero are solved for, so a block coupled to the rest through a few columns (a force
+// entering its equations) costs O(rest · block²). False, leaving x unset, where a block or
+// the Schur complement is numerically singular (the caller then factorises `a` whole).
+// Throws std::logic_error if two blocks are coupled in `a` (the problem broke its promise).
+bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                      const EliminationBlocks& blocks, Eigen::VectorXd* x);
+
+}  // namespace nfrc
