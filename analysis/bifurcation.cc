@@ -61,7 +61,8 @@ FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega) 
   HillOptions hill;
   hill.unstable_tolerance = options_.unstable_tolerance;
   try {
-    return SolveHill(AssembleHillPencil(system_, y, omega), hill);
+    if (!hill_) hill_ = std::make_unique<HillAssembler>(system_);
+    return SolveHill(hill_->Assemble(y, omega), hill);
   } catch (const std::runtime_error& error) {
     FloquetResult failed;
     failed.method = "hill";

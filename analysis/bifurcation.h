@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <optional>
 
 #include "analysis/harmonic_system.h"
@@ -37,6 +38,7 @@ class StabilityMonitor {
 
  private:
   HarmonicSystem& system_;
+  std::unique_ptr<HillAssembler> hill_;  // made at the first analysis (it holds Δ's parts)
   const StabilityOptions& options_;
   const ContinuationOptions& continuation_;
 };

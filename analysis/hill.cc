@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 namespace nfrc {
@@ -63,39 +64,24 @@ struct Target {
   double sign;
 };
 
-class IndexMap {
- public:
-  IndexMap(const HarmonicSystem& system, const std::vector<int>& obstacle_offset, int own_offset)
-      : system_(system), obstacle_offset_(obstacle_offset), own_offset_(own_offset) {}
-
-  // Entries of the full unknowns that condensed unknown j stands for.
-  std::vector<Target> Of(int j) const {
-    const int nx = system_.num_displacement_unknowns();
-    if (j >= nx) return {{own_offset_ + j - nx, 1.0}};
-    const int nc = system_.harmonic_set().NumCoefficients();
-    const int local = j / nc, c = j % nc;
-    const int dof = system_.retained()[static_cast<size_t>(local)];
-    std::vector<Target> targets{{dof * nc + c, 1.0}};
-    if (obstacle_offset_[local] >= 0) targets.push_back({obstacle_offset_[local] + c, -1.0});
-    return targets;
-  }
-
- private:
-  const HarmonicSystem& system_;
-  const std::vector<int>& obstacle_offset_;
-  int own_offset_;
+struct Targets {
+  std::array<Target, 2> entries;
+  int count;
 };
 
 // Adds a condensed-layout law matrix to a full-layout one (rows and columns mapped alike:
 // the obstacle row takes the reaction −f_nl).
-void AddMapped(const Eigen::MatrixXd& law, const IndexMap& map, Triplets* triplets) {
+void AddMapped(const Eigen::MatrixXd& law, const std::vector<Targets>& map, Triplets* triplets) {
   for (int j = 0; j < law.cols(); ++j) {
-    const std::vector<Target> columns = map.Of(j);
+    const Targets& columns = map[static_cast<size_t>(j)];
     for (int i = 0; i < law.rows(); ++i) {
       const double value = law(i, j);
       if (value == 0.0) continue;
-      for (const Target& row : map.Of(i)) {
-        for (const Target& column : columns) {
+      const Targets& rows = map[static_cast<size_t>(i)];
+      for (int r = 0; r < rows.count; ++r) {
+        for (int c = 0; c < columns.count; ++c) {
+          const Target& row = rows.entries[static_cast<size_t>(r)];
+          const Target& column = columns.entries[static_cast<size_t>(c)];
           triplets->emplace_back(row.index, column.index, row.sign * column.sign * value);
         }
       }
@@ -103,14 +89,29 @@ void AddMapped(const Eigen::MatrixXd& law, const IndexMap& map, Triplets* triple
   }
 }
 
+Eigen::SparseMatrix<double> FromTriplets(const Triplets& triplets, int size) {
+  Eigen::SparseMatrix<double> matrix(size, size);
+  matrix.setFromTriplets(triplets.begin(), triplets.end());
+  return matrix;
+}
+
 }  // namespace
 
-HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega) {
-  Eigen::VectorXd residual;
-  if (!system.Evaluate(y, omega, &residual, nullptr, nullptr)) {
-    throw std::runtime_error("Hill: the system cannot be evaluated at omega = " +
-                             std::to_string(omega) + ": " + system.last_error());
-  }
+// The parts of the pencil that depend on neither y nor ω, each of the full size.
+struct HillAssembler::Cache {
+  int size = 0;
+  Eigen::SparseMatrix<double> stiffness;  // K⊗I plus the obstacles' springs
+  Eigen::SparseMatrix<double> damping_d;  // C⊗D
+  Eigen::SparseMatrix<double> mass_dd;    // M⊗D²
+  Eigen::SparseMatrix<double> damping;    // C⊗I
+  Eigen::SparseMatrix<double> mass_d;     // M⊗D
+  Eigen::SparseMatrix<double> mass;       // M⊗I
+  std::vector<Targets> map;               // per unknown of the system
+  HillPencil shape;                       // set, dynamic, signal offsets, state dimension
+};
+
+HillAssembler::HillAssembler(HarmonicSystem& system)
+    : system_(system), cache_(std::make_unique<Cache>()) {
   const LinearModel& model = system.model();
   const HarmonicSet& set = system.harmonic_set();
   const int nc = set.NumCoefficients();
@@ -121,7 +122,7 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
   // Flexible obstacles: one massless block per retained DOF backed by one, after the DOFs.
   const int num_retained = system.num_displacement_unknowns() / nc;
   std::vector<int> obstacle_offset(static_cast<size_t>(num_retained), -1);
-  std::vector<double> obstacle_stiffness(static_cast<size_t>(num_retained), 0.0);
+  Triplets obstacles;
   int next = n * nc;
   for (size_t i = 0; i < system.laws().size(); ++i) {
     const std::vector<double> compliance = system.laws()[i]->ObstacleCompliance();
@@ -129,62 +130,109 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
       if (compliance[j] <= 0.0) continue;
       const int local = system.context(static_cast<int>(i)).local_dofs[j];
       obstacle_offset[static_cast<size_t>(local)] = next;
-      obstacle_stiffness[static_cast<size_t>(local)] = 1.0 / compliance[j];
+      for (int c = 0; c < nc; ++c) obstacles.emplace_back(next + c, next + c, 1.0 / compliance[j]);
       next += nc;
     }
   }
   const int own_offset = next;
-  const int size = own_offset + system.NumUnknowns() - system.num_displacement_unknowns();
+  Cache& cache = *cache_;
+  cache.size = own_offset + system.NumUnknowns() - system.num_displacement_unknowns();
+  const int size = cache.size;
 
-  Triplets t0, t1, t2;
-  AddKronecker(model.stiffness, identity, 1.0, &t0);
-  AddKronecker(model.damping, d, omega, &t0);
-  AddKronecker(model.mass, d * d, omega * omega, &t0);
-  AddKronecker(model.damping, identity, 1.0, &t1);
-  AddKronecker(model.mass, d, 2.0 * omega, &t1);
-  AddKronecker(model.mass, identity, 1.0, &t2);
-  for (int local = 0; local < num_retained; ++local) {
-    const int offset = obstacle_offset[static_cast<size_t>(local)];
-    if (offset < 0) continue;
-    for (int c = 0; c < nc; ++c) {
-      t0.emplace_back(offset + c, offset + c, obstacle_stiffness[static_cast<size_t>(local)]);
+  Triplets triplets = obstacles;
+  AddKronecker(model.stiffness, identity, 1.0, &triplets);
+  cache.stiffness = FromTriplets(triplets, size);
+  const auto kronecker = [&](const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b) {
+    Triplets t;
+    AddKronecker(a, b, 1.0, &t);
+    return FromTriplets(t, size);
+  };
+  cache.damping_d = kronecker(model.damping, d);
+  cache.mass_dd = kronecker(model.mass, d * d);
+  cache.damping = kronecker(model.damping, identity);
+  cache.mass_d = kronecker(model.mass, d);
+  cache.mass = kronecker(model.mass, identity);
+
+  const int nx = system.num_displacement_unknowns();
+  cache.map.resize(static_cast<size_t>(system.NumUnknowns()));
+  for (int j = 0; j < system.NumUnknowns(); ++j) {
+    Targets& targets = cache.map[static_cast<size_t>(j)];
+    if (j >= nx) {
+      targets = {{Target{own_offset + j - nx, 1.0}, Target{0, 0.0}}, 1};
+      continue;
+    }
+    const int local = j / nc, c = j % nc;
+    const int dof = system.retained()[static_cast<size_t>(local)];
+    targets = {{Target{dof * nc + c, 1.0}, Target{0, 0.0}}, 1};
+    if (obstacle_offset[static_cast<size_t>(local)] >= 0) {
+      targets.entries[1] = Target{obstacle_offset[static_cast<size_t>(local)] + c, -1.0};
+      targets.count = 2;
     }
   }
-  // The linear part's rows, for laws whose force is predicted from them (DLFT).
-  std::array<RowMatrix, 3> linear;
-  for (int k = 0; k < 3; ++k) {
-    const Triplets& triplets = k == 0 ? t0 : (k == 1 ? t1 : t2);
-    linear[static_cast<size_t>(k)].resize(size, size);
-    linear[static_cast<size_t>(k)].setFromTriplets(triplets.begin(), triplets.end());
+
+  HillPencil& shape = cache.shape;
+  shape.set = set;
+  for (int dof = 0; dof < n; ++dof) {
+    if (model.mass.coeff(dof, dof) > 0.0) {
+      shape.signal_offsets.push_back(dof * nc);
+      for (int c = 0; c < nc; ++c) shape.dynamic.push_back(dof * nc + c);
+      shape.state_dimension += 2;
+    } else if (model.damping.coeff(dof, dof) > 0.0) {
+      shape.state_dimension += 1;  // a massless damped DOF is a first-order state
+    }
   }
-  const IndexMap map(system, obstacle_offset, own_offset);
-  const int m = system.NumUnknowns();
-  for (size_t i = 0; i < system.laws().size(); ++i) {
-    const Nonlinearity& law = *system.laws()[i];
-    const NonlinearityContext& ctx = system.context(static_cast<int>(i));
-    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(m, m);
-    Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(m, m);
+}
+
+HillAssembler::~HillAssembler() = default;
+
+HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
+  Eigen::VectorXd residual;
+  if (!system_.Evaluate(y, omega, &residual, nullptr, nullptr)) {
+    throw std::runtime_error("Hill: the system cannot be evaluated at omega = " +
+                             std::to_string(omega) + ": " + system_.last_error());
+  }
+  const Cache& cache = *cache_;
+  const int size = cache.size;
+  const int nc = system_.harmonic_set().NumCoefficients();
+  // The linear part of each matrix.
+  const std::array<Eigen::SparseMatrix<double>, 3> linear = {
+      Eigen::SparseMatrix<double>(cache.stiffness + omega * cache.damping_d +
+                                  (omega * omega) * cache.mass_dd),
+      Eigen::SparseMatrix<double>(cache.damping + (2.0 * omega) * cache.mass_d), cache.mass};
+  // Its rows in row-major order, for laws whose force is predicted from them (DLFT).
+  std::optional<std::array<RowMatrix, 3>> linear_rows;
+  std::array<Triplets, 3> laws;
+  const int m = system_.NumUnknowns();
+  Eigen::MatrixXd jacobian(m, m), velocity(m, m);
+  for (size_t i = 0; i < system_.laws().size(); ++i) {
+    const Nonlinearity& law = *system_.laws()[i];
+    const NonlinearityContext& ctx = system_.context(static_cast<int>(i));
+    jacobian.setZero();
+    velocity.setZero();
     law.LinearizeForStability(ctx, y, omega, &jacobian, &velocity);
-    AddMapped(jacobian, map, &t0);
-    AddMapped(velocity, map, &t1);
-    if (const auto dependence = law.LinearResidualPart(ctx, y, omega)) {
-      const std::vector<int> dofs = law.Dofs();
-      for (int k = 0; k < 3; ++k) {
-        Eigen::MatrixXd force = Eigen::MatrixXd::Zero(nc, size);
-        for (const auto& [dof_index, coefficient] : dependence->terms) {
-          const int dof = dofs[static_cast<size_t>(dof_index)];
-          force += coefficient * dependence->weights *
-                   Eigen::MatrixXd(linear[static_cast<size_t>(k)].middleRows(dof * nc, nc));
-        }
-        Triplets& triplets = k == 0 ? t0 : (k == 1 ? t1 : t2);
-        for (const auto& [dof_index, row_sign] : dependence->rows) {
-          const int first = ctx.DofOffset(dof_index);  // condensed row of the DOF's block
-          for (int c = 0; c < nc; ++c) {
-            for (const Target& row : map.Of(first + c)) {
-              for (int j = 0; j < size; ++j) {
-                const double value = force(c, j);
-                if (value != 0.0) triplets.emplace_back(row.index, j, row.sign * row_sign * value);
-              }
+    AddMapped(jacobian, cache.map, &laws[0]);
+    AddMapped(velocity, cache.map, &laws[1]);
+    const auto dependence = law.LinearResidualPart(ctx, y, omega);
+    if (!dependence) continue;
+    if (!linear_rows)
+      linear_rows.emplace(std::array<RowMatrix, 3>{linear[0], linear[1], linear[2]});
+    const std::vector<int> dofs = law.Dofs();
+    for (size_t k = 0; k < 3; ++k) {
+      Eigen::MatrixXd force = Eigen::MatrixXd::Zero(nc, size);
+      for (const auto& [dof_index, coefficient] : dependence->terms) {
+        const int dof = dofs[static_cast<size_t>(dof_index)];
+        force += coefficient * dependence->weights *
+                 Eigen::MatrixXd((*linear_rows)[k].middleRows(dof * nc, nc));
+      }
+      for (const auto& [dof_index, row_sign] : dependence->rows) {
+        const int first = ctx.DofOffset(dof_index);  // condensed row of the DOF's block
+        for (int c = 0; c < nc; ++c) {
+          const Targets& rows = cache.map[static_cast<size_t>(first + c)];
+          for (int r = 0; r < rows.count; ++r) {
+            const Target& row = rows.entries[static_cast<size_t>(r)];
+            for (int j = 0; j < size; ++j) {
+              const double value = force(c, j);
+              if (value != 0.0) laws[k].emplace_back(row.index, j, row.sign * row_sign * value);
             }
           }
         }
@@ -192,24 +240,16 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
     }
   }
 
-  HillPencil pencil;
-  pencil.set = set;
+  HillPencil pencil = cache.shape;
   pencil.omega = omega;
-  for (auto [matrix, triplets] :
-       {std::pair{&pencil.d0, &t0}, {&pencil.d1, &t1}, {&pencil.d2, &t2}}) {
-    matrix->resize(size, size);
-    matrix->setFromTriplets(triplets->begin(), triplets->end());
-  }
-  for (int dof = 0; dof < n; ++dof) {
-    if (model.mass.coeff(dof, dof) > 0.0) {
-      pencil.signal_offsets.push_back(dof * nc);
-      for (int c = 0; c < nc; ++c) pencil.dynamic.push_back(dof * nc + c);
-      pencil.state_dimension += 2;
-    } else if (model.damping.coeff(dof, dof) > 0.0) {
-      pencil.state_dimension += 1;  // a massless damped DOF is a first-order state
-    }
-  }
+  pencil.d0 = linear[0] + FromTriplets(laws[0], size);
+  pencil.d1 = linear[1] + FromTriplets(laws[1], size);
+  pencil.d2 = laws[2].empty() ? linear[2] : linear[2] + FromTriplets(laws[2], size);
   return pencil;
+}
+
+HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega) {
+  return HillAssembler(system).Assemble(y, omega);
 }
 
 namespace {
@@ -235,19 +275,24 @@ class ShiftInvertOperator {
   Eigen::Index cols() const { return rows(); }
   void set_shift(double /*sigma*/) {}  // fixed at construction (the LU is of H(σ))
 
+  // Allocation-free apart from the LU's solve: Arnoldi calls this ~100 times per point.
   void perform_op(const double* x_in, double* y_out) const {
     const int nd = static_cast<int>(pencil_.dynamic.size());
     Eigen::Map<const Eigen::VectorXd> q(x_in, n_), w(x_in + n_, nd);
-    Eigen::VectorXd r1(nd), w_full = Eigen::VectorXd::Zero(n_);
+    w_full_.setZero();
     for (int i = 0; i < nd; ++i) {
-      r1(i) = q(pencil_.dynamic[static_cast<size_t>(i)]);
-      w_full(pencil_.dynamic[static_cast<size_t>(i)]) = w(i) + sigma_ * r1(i);
+      const int index = pencil_.dynamic[static_cast<size_t>(i)];
+      w_full_(index) = w(i) + sigma_ * q(index);
     }
-    const Eigen::VectorXd rhs = pencil_.d1 * q + pencil_.d2 * w_full;
+    rhs_.noalias() = pencil_.d1 * q;
+    rhs_.noalias() += pencil_.d2 * w_full_;
+    solution_ = lu_.solve(rhs_);
     Eigen::Map<Eigen::VectorXd> out_q(y_out, n_), out_w(y_out + n_, nd);
-    out_q = -lu_.solve(rhs);
-    for (int i = 0; i < nd; ++i)
-      out_w(i) = r1(i) + sigma_ * out_q(pencil_.dynamic[static_cast<size_t>(i)]);
+    out_q = -solution_;
+    for (int i = 0; i < nd; ++i) {
+      const int index = pencil_.dynamic[static_cast<size_t>(i)];
+      out_w(i) = q(index) + sigma_ * out_q(index);
+    }
   }
 
  private:
@@ -256,6 +301,8 @@ class ShiftInvertOperator {
   double sigma_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
   bool ok_ = false;
+  mutable Eigen::VectorXd w_full_ = Eigen::VectorXd(n_), rhs_ = Eigen::VectorXd(n_),
+                          solution_ = Eigen::VectorXd(n_);
 };
 
 // The harmonic centroid k̄ of an eigenvector's DOF signals, their share of its norm and the

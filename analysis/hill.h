@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <memory>
 #include <vector>
 
 #include "analysis/harmonic_system.h"
@@ -28,9 +29,29 @@ struct HillPencil {
   int state_dimension = 0;
 };
 
-// The pencil of a HarmonicSystem's solution y at ω (the system is evaluated there first).
-// Δ0 is the Jacobian of the uncondensed harmonic equations; Δ1 = C⊗I + 2ωM⊗D plus the laws'
-// velocity Jacobians; Δ2 = M⊗I (Nonlinearity::LinearizeForStability).
+// Assembles the pencils of one HarmonicSystem at many points (a trace analyses every one):
+// the Kronecker products of the linear part, which depend on neither y nor ω, and the map
+// from the system's unknowns to the full ones are built once, at construction. The system
+// must outlive the assembler and keep its model and laws.
+class HillAssembler {
+ public:
+  explicit HillAssembler(HarmonicSystem& system);
+  ~HillAssembler();
+  HillAssembler(const HillAssembler&) = delete;
+  HillAssembler& operator=(const HillAssembler&) = delete;
+
+  // The pencil of the solution y at ω (the system is evaluated there first). Δ0 is the
+  // Jacobian of the uncondensed harmonic equations; Δ1 = C⊗I + 2ωM⊗D plus the laws' velocity
+  // Jacobians; Δ2 = M⊗I (Nonlinearity::LinearizeForStability).
+  HillPencil Assemble(const Eigen::VectorXd& y, double omega);
+
+ private:
+  struct Cache;
+  HarmonicSystem& system_;
+  std::unique_ptr<Cache> cache_;
+};
+
+// One pencil, through a HillAssembler made for it.
 HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega);
 
 struct HillOptions {

@@ -202,10 +202,8 @@ std::vector<int> Range(int first, int last) {
   return indices;
 }
 
-// Condensing Δ0 onto the retained DOFs and own unknowns gives back the system's Jacobian
-// (FD-checked in harmonic_system_test): the assembly, the DOF map and the laws' blocks.
-TEST_CASE(
-    "hill: delta0 condensed is the harmonic system's Jacobian, with friction's velocity block") {
+// A 4-DOF chain with a cubic spring at DOF 0 and friction at DOF 3 (retained: 0 and 3).
+Case SpringAndFrictionCase() {
   Case c = testing::ChainCase(4);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = HarmonicSet(3, false, 32);
@@ -217,6 +215,14 @@ TEST_CASE(
   c.laws.push_back(friction);
   c.output_dofs = {0};
   c.output_names = {"0"};
+  return c;
+}
+
+// Condensing Δ0 onto the retained DOFs and own unknowns gives back the system's Jacobian
+// (FD-checked in harmonic_system_test): the assembly, the DOF map and the laws' blocks.
+TEST_CASE(
+    "hill: delta0 condensed is the harmonic system's Jacobian, with friction's velocity block") {
+  const Case c = SpringAndFrictionCase();
   auto system = BuildSystem(c);
   const double omega = 0.9;
   Eigen::VectorXd y = system->InitialGuess(omega);
@@ -275,6 +281,27 @@ TEST_CASE("hill: delta0 condensed is DLFT's Jacobian against a rigid obstacle") 
       system->laws()[0]->LinearResidualPart(system->context(0), y, omega)->weights;
   CHECK(weights.norm() > 0.0);  // some samples in contact
   CHECK((schur - jacobian).norm() <= 1e-9 * jacobian.norm());
+}
+
+// A trace reuses one HillAssembler (its Kronecker products and map are built once): after a
+// pencil at another point and frequency it must give exactly the pencil assembled afresh.
+TEST_CASE("hill: a reused assembler gives the pencil of each new point exactly") {
+  auto system = BuildSystem(SpringAndFrictionCase());
+  std::srand(5);
+  const Eigen::VectorXd first = 0.01 * Eigen::VectorXd::Random(system->NumUnknowns());
+  const Eigen::VectorXd second = 0.02 * Eigen::VectorXd::Random(system->NumUnknowns());
+  HillAssembler assembler(*system);
+  assembler.Assemble(first, 0.8);
+  const HillPencil reused = assembler.Assemble(second, 1.1);
+  const HillPencil fresh = AssembleHillPencil(*system, second, 1.1);
+  for (auto [a, b] :
+       {std::pair{&reused.d0, &fresh.d0}, {&reused.d1, &fresh.d1}, {&reused.d2, &fresh.d2}}) {
+    CHECK(Eigen::MatrixXd(*a - *b).norm() == 0.0);
+    CHECK(a->norm() > 0.0);
+  }
+  CHECK(reused.omega == 1.1);
+  CHECK(reused.dynamic == fresh.dynamic);
+  CHECK(reused.state_dimension == fresh.state_dimension);
 }
 
 }  // namespace
