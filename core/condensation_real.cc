@@ -1,0 +1,105 @@
+// The real, DOF-major layout of Condensation's per-harmonic complex operator and forcing:
+// the form the harmonic-balance residual uses (coefficients a_k, b_k of each retained DOF).
+#include <stdexcept>
+
+#include "core/condensation.h"
+
+namespace nfrc {
+namespace {
+
+using Complex = std::complex<double>;
+
+// Writes the rows of retained DOF i at row offset `first_row` of `out`: each complex entry
+// z of harmonic k becomes [[Re, Im], [−Im, Re]] on (a_k, b_k), only Re for k = 0.
+template <typename Blocks>
+void PutRows(const HarmonicSet& set, int i, int num_retained, const Blocks& block, int first_row,
+             Eigen::MatrixXd* out) {
+  const int n_c = set.NumCoefficients();
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    const int ic = set.CosIndex(p);
+    const int is = set.SinIndex(p);
+    const Eigen::MatrixXcd& z_p = block(p);
+    for (int j = 0; j < num_retained; ++j) {
+      const Complex z = z_p(i, j);
+      (*out)(first_row + ic, j * n_c + ic) = z.real();
+      if (set.harmonics()[p] == 0) continue;
+      (*out)(first_row + ic, j * n_c + is) = z.imag();
+      (*out)(first_row + is, j * n_c + ic) = -z.imag();
+      (*out)(first_row + is, j * n_c + is) = z.real();
+    }
+  }
+}
+
+// The forcing's entries of DOF i, (a, b) = (Re F, −Im F) per harmonic, at `first_row`.
+template <typename Vectors>
+void PutEntries(const HarmonicSet& set, int i, const Vectors& vector, int first_row,
+                Eigen::VectorXd* out) {
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    const Complex f = vector(p)(i);
+    (*out)(first_row + set.CosIndex(p)) = f.real();
+    if (set.harmonics()[p] != 0) (*out)(first_row + set.SinIndex(p)) = -f.imag();
+  }
+}
+
+void CheckRetained(int i, int num_retained) {
+  if (i < 0 || i >= num_retained) throw std::invalid_argument("i: not a retained DOF index");
+}
+
+}  // namespace
+
+Eigen::MatrixXd Condensation::RealOperator() const {
+  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
+  const auto z = [this](int p) -> const Eigen::MatrixXcd& { return Z(p); };
+  for (int i = 0; i < num_retained(); ++i) {
+    PutRows(set_, i, num_retained(), z, i * set_.NumCoefficients(), &real);
+  }
+  return real;
+}
+
+Eigen::MatrixXd Condensation::RealOperatorDerivative() const {
+  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
+  const auto dz = [this](int p) -> const Eigen::MatrixXcd& { return dZ(p); };
+  for (int i = 0; i < num_retained(); ++i) {
+    PutRows(set_, i, num_retained(), dz, i * set_.NumCoefficients(), &real);
+  }
+  return real;
+}
+
+Eigen::VectorXd Condensation::RealForcing() const {
+  Eigen::VectorXd real = Eigen::VectorXd::Zero(num_unknowns());
+  const auto f = [this](int p) -> const Eigen::VectorXcd& { return F(p); };
+  for (int i = 0; i < num_retained(); ++i)
+    PutEntries(set_, i, f, i * set_.NumCoefficients(), &real);
+  return real;
+}
+
+Eigen::VectorXd Condensation::RealForcingDerivative() const {
+  Eigen::VectorXd real = Eigen::VectorXd::Zero(num_unknowns());
+  const auto df = [this](int p) -> const Eigen::VectorXcd& { return dF(p); };
+  for (int i = 0; i < num_retained(); ++i) {
+    PutEntries(set_, i, df, i * set_.NumCoefficients(), &real);
+  }
+  return real;
+}
+
+Eigen::MatrixXd Condensation::RealOperatorRows(int i, bool derivative) const {
+  CheckRetained(i, num_retained());
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(set_.NumCoefficients(), num_unknowns());
+  const auto block = [this, derivative](int p) -> const Eigen::MatrixXcd& {
+    return derivative ? dZ(p) : Z(p);
+  };
+  PutRows(set_, i, num_retained(), block, 0, &rows);
+  return rows;
+}
+
+Eigen::VectorXd Condensation::RealForcingRows(int i, bool derivative) const {
+  CheckRetained(i, num_retained());
+  Eigen::VectorXd rows = Eigen::VectorXd::Zero(set_.NumCoefficients());
+  const auto vector = [this, derivative](int p) -> const Eigen::VectorXcd& {
+    return derivative ? dF(p) : F(p);
+  };
+  PutEntries(set_, i, vector, 0, &rows);
+  return rows;
+}
+
+}  // namespace nfrc
