@@ -41,6 +41,26 @@ void PutEntries(const HarmonicSet& set, int i, const Vectors& vector, int first_
   }
 }
 
+// Every retained DOF's rows: the whole operator (or forcing) in the real layout.
+template <typename Blocks>
+Eigen::MatrixXd Whole(const HarmonicSet& set, int num_retained, const Blocks& block) {
+  const int n = num_retained * set.NumCoefficients();
+  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < num_retained; ++i) {
+    PutRows(set, i, num_retained, block, i * set.NumCoefficients(), &real);
+  }
+  return real;
+}
+
+template <typename Vectors>
+Eigen::VectorXd WholeVector(const HarmonicSet& set, int num_retained, const Vectors& vector) {
+  Eigen::VectorXd real = Eigen::VectorXd::Zero(num_retained * set.NumCoefficients());
+  for (int i = 0; i < num_retained; ++i) {
+    PutEntries(set, i, vector, i * set.NumCoefficients(), &real);
+  }
+  return real;
+}
+
 void CheckRetained(int i, int num_retained) {
   if (i < 0 || i >= num_retained) throw std::invalid_argument("i: not a retained DOF index");
 }
@@ -48,38 +68,21 @@ void CheckRetained(int i, int num_retained) {
 }  // namespace
 
 Eigen::MatrixXd Condensation::RealOperator() const {
-  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
-  const auto z = [this](int p) -> const Eigen::MatrixXcd& { return Z(p); };
-  for (int i = 0; i < num_retained(); ++i) {
-    PutRows(set_, i, num_retained(), z, i * set_.NumCoefficients(), &real);
-  }
-  return real;
+  return Whole(set_, num_retained(), [this](int p) -> const Eigen::MatrixXcd& { return Z(p); });
 }
 
 Eigen::MatrixXd Condensation::RealOperatorDerivative() const {
-  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
-  const auto dz = [this](int p) -> const Eigen::MatrixXcd& { return dZ(p); };
-  for (int i = 0; i < num_retained(); ++i) {
-    PutRows(set_, i, num_retained(), dz, i * set_.NumCoefficients(), &real);
-  }
-  return real;
+  return Whole(set_, num_retained(), [this](int p) -> const Eigen::MatrixXcd& { return dZ(p); });
 }
 
 Eigen::VectorXd Condensation::RealForcing() const {
-  Eigen::VectorXd real = Eigen::VectorXd::Zero(num_unknowns());
-  const auto f = [this](int p) -> const Eigen::VectorXcd& { return F(p); };
-  for (int i = 0; i < num_retained(); ++i)
-    PutEntries(set_, i, f, i * set_.NumCoefficients(), &real);
-  return real;
+  return WholeVector(set_, num_retained(),
+                     [this](int p) -> const Eigen::VectorXcd& { return F(p); });
 }
 
 Eigen::VectorXd Condensation::RealForcingDerivative() const {
-  Eigen::VectorXd real = Eigen::VectorXd::Zero(num_unknowns());
-  const auto df = [this](int p) -> const Eigen::VectorXcd& { return dF(p); };
-  for (int i = 0; i < num_retained(); ++i) {
-    PutEntries(set_, i, df, i * set_.NumCoefficients(), &real);
-  }
-  return real;
+  return WholeVector(set_, num_retained(),
+                     [this](int p) -> const Eigen::VectorXcd& { return dF(p); });
 }
 
 Eigen::MatrixXd Condensation::RealOperatorRows(int i, bool derivative) const {
