@@ -194,11 +194,12 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   const Cache& cache = *cache_;
   const int size = cache.size;
   const int nc = system_.harmonic_set().NumCoefficients();
-  // The linear part of each matrix.
-  const std::array<Eigen::SparseMatrix<double>, 3> linear = {
-      Eigen::SparseMatrix<double>(cache.stiffness + omega * cache.damping_d +
-                                  (omega * omega) * cache.mass_dd),
-      Eigen::SparseMatrix<double>(cache.damping + (2.0 * omega) * cache.mass_d), cache.mass};
+  // The linear part of each matrix (Δ2's is the cached M⊗I itself).
+  const Eigen::SparseMatrix<double> d0_linear =
+      cache.stiffness + omega * cache.damping_d + (omega * omega) * cache.mass_dd;
+  const Eigen::SparseMatrix<double> d1_linear = cache.damping + (2.0 * omega) * cache.mass_d;
+  const std::array<const Eigen::SparseMatrix<double>*, 3> linear = {&d0_linear, &d1_linear,
+                                                                    &cache.mass};
   // Its rows in row-major order, for laws whose force is predicted from them (DLFT).
   std::optional<std::array<RowMatrix, 3>> linear_rows;
   std::array<Triplets, 3> laws;
@@ -215,7 +216,7 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     const auto dependence = law.LinearResidualPart(ctx, y, omega);
     if (!dependence) continue;
     if (!linear_rows)
-      linear_rows.emplace(std::array<RowMatrix, 3>{linear[0], linear[1], linear[2]});
+      linear_rows.emplace(std::array<RowMatrix, 3>{*linear[0], *linear[1], *linear[2]});
     const std::vector<int> dofs = law.Dofs();
     for (size_t k = 0; k < 3; ++k) {
       Eigen::MatrixXd force = Eigen::MatrixXd::Zero(nc, size);
@@ -242,9 +243,9 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
 
   HillPencil pencil = cache.shape;
   pencil.omega = omega;
-  pencil.d0 = linear[0] + FromTriplets(laws[0], size);
-  pencil.d1 = linear[1] + FromTriplets(laws[1], size);
-  pencil.d2 = laws[2].empty() ? linear[2] : linear[2] + FromTriplets(laws[2], size);
+  pencil.d0 = d0_linear + FromTriplets(laws[0], size);
+  pencil.d1 = d1_linear + FromTriplets(laws[1], size);
+  pencil.d2 = laws[2].empty() ? cache.mass : cache.mass + FromTriplets(laws[2], size);
   return pencil;
 }
 

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace nfrc {
 namespace {
@@ -74,15 +75,15 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
         positions.push_back(j);
       }
     }
-    const Eigen::MatrixXd coupling = factors.back().solve(Eigen::MatrixXd(a(block, columns)));
-    const Eigen::VectorXd solution = factors.back().solve(Eigen::VectorXd(b(block)));
+    Eigen::MatrixXd coupling = factors.back().solve(Eigen::MatrixXd(a(block, columns)));
+    Eigen::VectorXd solution = factors.back().solve(Eigen::VectorXd(b(block)));
     // S −= A_rest,B A_BB⁻¹ A_B,rest and the right-hand side alike.
     const Eigen::MatrixXd left = a(rest, block);
     schur(Eigen::all, positions) -= left * coupling;
     schur_rhs -= left * solution;
-    block_solutions.push_back(solution);
+    block_solutions.push_back(std::move(solution));
     coupled_columns.push_back(std::move(positions));
-    block_times_coupling.push_back(coupling);
+    block_times_coupling.push_back(std::move(coupling));
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
   if (!Regular(schur_lu)) return false;

@@ -167,6 +167,12 @@ struct Condensation::Impl {
 
   void PrepareSplit(int num_positions);
   void CondenseSplit(int position, int k, double omega);
+  // Factorises Z_ll at harmonic k into factors[p], reusing the previous frequency's pivot
+  // order when it is still stable.
+  void Factor(int p, const Weights& w, int k, double omega);
+  // b = [B F_l] (n_l × (n_r + 1)): the interior right-hand sides of the condensation, with
+  // B = EᵀDT for the static split and Z_lr for the direct form.
+  void InteriorRhs(int p, const Weights& w, Eigen::MatrixXcd* b) const;
 
   // Z_rr(w) as a dense n_r × n_r matrix.
   Eigen::MatrixXcd Retained(const Weights& w) const {
@@ -260,10 +266,8 @@ void Condensation::Impl::CondenseSplit(int p, int k, double omega) {
   const internal::LuFactorization& lu = *factors[p];
   // [Y Y_F] = Z_ll⁻¹ [EᵀDT F_l].
   // For a symmetric model the left rows T̃ᵀDE are (EᵀDT)ᵀ: one combination serves both.
-  const Eigen::MatrixXcd c = Combine(w, c_mass, c_damping);
-  solution.resize(n_l, n_r + 1);
-  solution.leftCols(n_r) = c;
-  CondensedRhs(p, w, Eigen::VectorXcd(), solution, n_r);
+  InteriorRhs(p, w, &solution);
+  const Eigen::MatrixXcd c = solution.leftCols(n_r);
   lu.Solve(solution, false);
   const auto y = solution.leftCols(n_r);
   const auto y_f = solution.col(n_r);
@@ -293,16 +297,30 @@ void Condensation::Impl::CondenseSplit(int p, int k, double omega) {
   df[p] = -dbt.transpose() * y_f + y_t.transpose() * product.col(n_r);
 }
 
+void Condensation::Impl::Factor(int p, const Weights& w, int k, double omega) {
+  ll.Values(w, values);
+  if (!factors[p] || !factors[p]->Refactor(values)) {
+    factors[p].reset();
+    factors[p] = dense ? internal::DenseLu(ll.Dense(values), k, omega)
+                       : analysis->Factorize(values, k, omega);
+  }
+}
+
+void Condensation::Impl::InteriorRhs(int p, const Weights& w, Eigen::MatrixXcd* b) const {
+  b->setZero(n_l, n_r + 1);
+  if (split) {
+    b->leftCols(n_r) = Combine(w, c_mass, c_damping);
+  } else {
+    for (const Entry& e : lr) (*b)(e.row, e.col) += e.Value(w);
+  }
+  CondensedRhs(p, w, Eigen::VectorXcd(), *b, n_r);
+}
+
 void Condensation::Impl::Condense(int p, int k, double omega) {
   const Weights w = StiffnessWeights(k, omega);
   const Weights dw = DerivativeWeights(k, omega);
+  if (n_l > 0) Factor(p, w, k, omega);
   if (split && n_l > 0) {
-    ll.Values(w, values);
-    if (!factors[p] || !factors[p]->Refactor(values)) {
-      factors[p].reset();
-      factors[p] = dense ? internal::DenseLu(ll.Dense(values), k, omega)
-                         : analysis->Factorize(values, k, omega);
-    }
     CondenseSplit(p, k, omega);
     return;
   }
@@ -311,19 +329,10 @@ void Condensation::Impl::Condense(int p, int k, double omega) {
   f[p] = forcing_r[p];
   df[p] = Eigen::VectorXcd::Zero(n_r);
   if (n_l == 0) return;
-  ll.Values(w, values);
-  // Reuse the previous frequency's pivot order when still stable, else factorise afresh.
-  if (!factors[p] || !factors[p]->Refactor(values)) {
-    factors[p].reset();
-    factors[p] = dense ? internal::DenseLu(ll.Dense(values), k, omega)
-                       : analysis->Factorize(values, k, omega);
-  }
   const internal::LuFactorization& lu = *factors[p];
 
   // [X W] = Z_ll⁻¹ [Z_lr F_l].
-  solution.setZero(n_l, n_r + 1);
-  for (const Entry& e : lr) solution(e.row, e.col) += e.Value(w);
-  CondensedRhs(p, w, Eigen::VectorXcd(), solution, n_r);
+  InteriorRhs(p, w, &solution);
   lu.Solve(solution, false);
   const auto x = solution.leftCols(n_r);
   const auto w_l = solution.col(n_r);
@@ -565,14 +574,9 @@ Condensation::Rounding Condensation::EstimateRounding() const {
     rounding.f.push_back(Eigen::VectorXd::Zero(impl.n_r));
     if (impl.n_l == 0) continue;
     const Weights w = StiffnessWeights(set_.harmonics()[p], omega_);
-    // The right-hand sides b = [EᵀDT F_l] (split) or [Z_lr F_l] (direct), as Condense has them.
-    Eigen::MatrixXcd b = Eigen::MatrixXcd::Zero(impl.n_l, impl.n_r + 1);
-    if (impl.split) {
-      b.leftCols(impl.n_r) = Impl::Combine(w, impl.c_mass, impl.c_damping);
-    } else {
-      for (const Entry& e : impl.lr) b(e.row, e.col) += e.Value(w);
-    }
-    impl.CondensedRhs(p, w, Eigen::VectorXcd(), b, impl.n_r);
+    // The right-hand sides b as Condense has them.
+    Eigen::MatrixXcd b;
+    impl.InteriorRhs(p, w, &b);
     Eigen::MatrixXcd y = b;
     impl.factors[p]->Solve(y, false);
     impl.ll.Values(w, values);

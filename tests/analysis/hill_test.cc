@@ -208,11 +208,7 @@ Case SpringAndFrictionCase() {
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = HarmonicSet(3, false, 32);
   c.laws.push_back(CubicSpringSpec{0, -1, 0.4});
-  CoulombFrictionSpec friction;
-  friction.dof = 3;
-  friction.mu = 0.3;
-  friction.normal_load = 0.05;
-  c.laws.push_back(friction);
+  c.laws.push_back(testing::Friction(3, 0.3, 0.05));
   c.output_dofs = {0};
   c.output_names = {"0"};
   return c;

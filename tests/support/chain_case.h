@@ -22,4 +22,15 @@ inline Case ChainCase(int n) {
   return c;
 }
 
+// Exact Coulomb friction at `dof` (against `other`, −1: ground) with coefficient mu and
+// normal load (N), the other fields at their defaults.
+inline CoulombFrictionSpec Friction(int dof, double mu, double normal_load, int other = -1) {
+  CoulombFrictionSpec friction;
+  friction.dof = dof;
+  friction.other = other;
+  friction.mu = mu;
+  friction.normal_load = normal_load;
+  return friction;
+}
+
 }  // namespace nfrc::testing
