@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "analysis/harmonic_system.h"
+#include "analysis/plotted_system.h"
 #include "analysis/stability.h"
 #include "analysis/validation_settings.h"
 #include "continuation/options.h"
@@ -46,6 +47,9 @@ struct Case {
   std::vector<int> output_dofs;           // model DOF indices whose measures are reported
   std::vector<std::string> output_names;  // how the outputs are named (index or DOF name)
   std::vector<double> signals_at;         // ω at which time signals are resolved
+  // What continuation.plot_tolerance holds the chords to: max |x| of the output DOFs, or the
+  // energy (continuation.plot_measure "max_abs" / "energy").
+  PlotMeasure plot_measure = PlotMeasure::kMaxAbs;
   ValidationSettings validation;
   StabilityOptions stability;  // Hill's method on every traced point, bifurcations
   // Responses of period m·T (SubharmonicCase): the harmonics are of ω/m and so is the
@@ -58,6 +62,9 @@ struct Case {
   // Cross-field checks of a case built in memory or changed after reading; throws InputError
   // naming the case-file field ("nonlinearities[1].mu: must be non-negative").
   void Validate() const;
+
+  // What continuation.plot_tolerance holds the chords to: plot_measure of output_dofs.
+  PlotSpec Plot() const { return {plot_measure, output_dofs}; }
 };
 
 // The sizes that decide what a problem costs, known before anything large is allocated

@@ -28,13 +28,22 @@ PointAnalyzer::PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dof
       output_dofs_(std::move(output_dofs)),
       fine_(FineSet(system.harmonic_set())) {}
 
+double PeriodEnergy(HarmonicSystem& system, const Eigen::VectorXd& y, double omega) {
+  const HarmonicSet& set = system.harmonic_set();
+  const Eigen::MatrixXd x = system.AllDofCoefficients(y, omega);
+  const Eigen::MatrixXd v = omega * x * system.fourier().DerivativeMatrix().transpose();
+  return MeanQuadraticForm(system.model().mass, v, set) +
+         MeanQuadraticForm(system.model().stiffness, x, set);
+}
+
+double PointAnalyzer::MaxAbs(const Eigen::VectorXd& y, double omega, int dof) {
+  return fine_.ToTime(system_.DofCoefficients(y, omega, dof)).col(0).cwiseAbs().maxCoeff();
+}
+
 PointMeasures PointAnalyzer::Measure(const Eigen::VectorXd& y, double omega) {
   const HarmonicSet& set = system_.harmonic_set();
   PointMeasures measures;
-  const Eigen::MatrixXd x = system_.AllDofCoefficients(y, omega);
-  const Eigen::MatrixXd v = omega * x * system_.fourier().DerivativeMatrix().transpose();
-  measures.energy = MeanQuadraticForm(system_.model().mass, v, set) +
-                    MeanQuadraticForm(system_.model().stiffness, x, set);
+  measures.energy = PeriodEnergy(system_, y, omega);
   for (int dof : output_dofs_) {
     const Eigen::VectorXd c = system_.DofCoefficients(y, omega, dof);
     const Eigen::VectorXd samples = fine_.ToTime(c).col(0);

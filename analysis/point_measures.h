@@ -25,6 +25,9 @@ struct PointMeasures {
 double MeanQuadraticForm(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& x,
                          const HarmonicSet& set);
 
+// PointMeasures::energy of solution y at ω: recovers every DOF, needs no time sampling.
+double PeriodEnergy(HarmonicSystem& system, const Eigen::VectorXd& y, double omega);
+
 // Computes PointMeasures; max |x| is taken on kOversampling × (2H + 1) samples (at least
 // kMinSamples) so that the peak between the solver's samples is not missed.
 class PointAnalyzer {
@@ -34,6 +37,8 @@ class PointAnalyzer {
 
   PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dofs);
   PointMeasures Measure(const Eigen::VectorXd& y, double omega);
+  // max_t |x(t)| of model DOF `dof` alone, on the fine sampling.
+  double MaxAbs(const Eigen::VectorXd& y, double omega, int dof);
   // The fine sampling used for max |x|, for writing time signals.
   const FourierTransform& fine() const { return fine_; }
 

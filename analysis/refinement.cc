@@ -79,7 +79,7 @@ std::optional<FixedLambdaSolution> TraceToOmega(const Case& the_case, double ome
   options.progress = run.progress;
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, run.progress, run.stop);
   StopAtOmega observer(*system, the_case, options, omega, run, &branch);
-  branch.branch = Trace(*system, options, &observer, &guess);
+  branch.branch = Trace(*system, options, &observer, &guess, the_case.Plot());
   if (Stopped(run)) {
     result->interrupted = true;
     branch.branch.summary.message += " (interrupted by a signal)";

@@ -1,6 +1,7 @@
 #include "analysis/trace.h"
 
 #include <algorithm>
+#include <optional>
 #include <ostream>
 
 #include "analysis/bifurcation.h"
@@ -104,7 +105,7 @@ int CoarserMaxHarmonic(const HarmonicSet& set) {
 }  // namespace
 
 Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
-             ContinuationObserver* observer, const Eigen::VectorXd* guess) {
+             ContinuationObserver* observer, const Eigen::VectorXd* guess, const PlotSpec& plot) {
   for (size_t i = 0; i < system.laws().size(); ++i) {
     try {
       system.laws()[i]->CheckForContinuation(system.harmonic_set());
@@ -115,7 +116,10 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
   }
   const Eigen::VectorXd start =
       guess != nullptr ? *guess : system.InitialGuess(options.lambda_start);
-  Branch branch = Continue(system, start, options, observer);
+  std::optional<PlottedSystem> plotted;
+  if (options.plot_tolerance > 0.0) plotted.emplace(system, plot);
+  Branch branch = plotted ? Continue(*plotted, start, options, observer)
+                          : Continue(system, start, options, observer);
   if (!branch.summary.success() && !system.last_error().empty()) {
     branch.summary.message += " (last evaluation error: " + system.last_error() + ")";
   }
@@ -174,7 +178,7 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
   const Eigen::VectorXd guess =
       options.start != nullptr ? *options.start
                                : StartingGuess(the_case, *system, options.progress, options.stop);
-  result.branch = Trace(*system, continuation, &recorder, &guess);
+  result.branch = Trace(*system, continuation, &recorder, &guess, the_case.Plot());
   result.quasi_periodic_windows = QuasiPeriodicWindows(result.bifurcations, result.points);
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";

@@ -93,9 +93,11 @@ struct TraceResult {
 TraceResult TraceCase(const Case& the_case, const TraceOptions& options = {});
 
 // Traces the branch of `system` from `guess` (default: the linear guess) at
-// options.lambda_start.
+// options.lambda_start; with options.plot_tolerance > 0 the steps follow `plot` (usually
+// Case::Plot(); std::invalid_argument if it plots nothing).
 Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
-             ContinuationObserver* observer = nullptr, const Eigen::VectorXd* guess = nullptr);
+             ContinuationObserver* observer = nullptr, const Eigen::VectorXd* guess = nullptr,
+             const PlotSpec& plot = {});
 
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that
 // fails (nonsmooth laws with many harmonics), the start of the same case with about a third

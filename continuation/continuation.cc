@@ -16,6 +16,7 @@
 #include "continuation/corrector.h"
 #include "continuation/evaluator.h"
 #include "continuation/fold_locator.h"
+#include "continuation/plot_control.h"
 #include "continuation/progress.h"
 #include "continuation/scaling.h"
 #include "continuation/step_control.h"
@@ -46,6 +47,14 @@ std::string Number(double value) {
   std::ostringstream text;
   text << std::setprecision(kMessageDigits) << value;
   return text.str();
+}
+
+// The λ extent a plot of the run spans: the distance from start to end, or the range.
+double PlotSpan(const ContinuationOptions& options) {
+  const double span = std::abs(options.lambda_end - options.lambda_start);
+  if (span > 0.0) return span;
+  const double range = options.UpperBound() - options.LowerBound();
+  return range > 0.0 ? range : 1.0;
 }
 
 std::string Describe(const std::string& name, double value) { return name + '=' + Number(value); }
@@ -103,6 +112,9 @@ class Continuer {
       turn_weights_.resize(weights.size() + 1);
       turn_weights_ << weights, 1.0;
     }
+    if (options.plot_tolerance > 0.0) {
+      plot_.emplace(problem, PlotSpan(options), options.plot_tolerance);
+    }
     settings_.max_iterations = options.max_newton_iterations;
     settings_.update_tolerance = options.newton_tolerance;
     settings_.residual_tolerance = options.residual_tolerance;
@@ -124,6 +136,11 @@ class Continuer {
                               " steps converged at the residual's rounding floor (above "
                               "residual_tolerance, within " +
                               Number(kNoiseFactor) + " times the problem's estimate)");
+    }
+    if (plot_gaps_ > 0) {
+      summary.notes.push_back(std::to_string(plot_gaps_) +
+                              " steps sized by the tangent's turn: the problem gave no usable "
+                              "plot coordinates there");
     }
     summary.num_evaluations = evaluator_.num_evaluations();
     summary.wall_time_seconds =
@@ -257,7 +274,8 @@ class Continuer {
       return Reject(std::move(record), "no tangent at the corrected point");
     }
     const double angle = TurnAngle(tangent_scaled, new_tangent);
-    if (angle > options_.max_tangent_angle) {
+    const double angle_limit = plot_ ? options_.max_plot_turn_angle : options_.max_tangent_angle;
+    if (angle > angle_limit) {
       // On a smooth branch the turn shrinks with the step; on a nonsmooth one (a sample of a
       // piecewise law switching branch) the tangent jumps by the same angle however short
       // the step: such a kink is accepted once a halved step no longer reduces the turn.
@@ -266,14 +284,19 @@ class Continuer {
                         angle >= kKinkAngleRatio * angle_rejection_->angle;
       if (!kink) {
         angle_rejection_ = AngleRejection{h, angle};
-        return Reject(std::move(record),
-                      "tangent turned by " + Number(angle) + " rad, above max_tangent_angle");
+        return Reject(std::move(record), "tangent turned by " + Number(angle) + " rad, above " +
+                                             (plot_ ? "max_plot_turn_angle" : "max_tangent_angle"));
       }
       record.note = "kink: tangent jumped by " + Number(angle) + " rad";
     }
+    std::optional<double> chord_error;
+    if (!PlotCheck(corrected.u, new_tangent, h, angle > options_.max_tangent_angle, &chord_error)) {
+      return Reject(std::move(record), "chord departs from the plotted curve by " +
+                                           Number(*chord_error) + ", above plot_tolerance");
+    }
     angle_rejection_.reset();
     // A kink's turn says nothing about the curvature ahead: it does not shrink the next step.
-    const double smooth_angle = angle > options_.max_tangent_angle ? 0.0 : angle;
+    const double smooth_angle = angle > angle_limit ? 0.0 : angle;
     const bool fold_crossed = options_.detect_folds && new_tangent(n()) * tangent_scaled(n()) < 0;
     const double lambda = corrected.u(n());
     if (lambda <= lambda_min_ || lambda >= lambda_max_) {
@@ -291,6 +314,7 @@ class Continuer {
     point.newton_iterations = corrected.iterations;
     point.residual_norm = corrected.residual_norm;
     Accept(std::move(record), point, corrected.u, new_tangent);
+    if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
 
@@ -321,6 +345,12 @@ class Continuer {
         new_tangent(n()) * t_lambda <= 0.0) {
       return std::nullopt;
     }
+    std::optional<double> chord_error;
+    if (!PlotCheck(solved.u, new_tangent, scaling_.Norm(solved.u - u_),
+                   TurnAngle(tangent_scaled, new_tangent) > options_.max_tangent_angle,
+                   &chord_error)) {
+      return std::nullopt;
+    }
     BranchPoint point;
     point.step = scaling_.Norm(solved.u - u_);
     point.newton_iterations = solved.iterations;
@@ -328,7 +358,28 @@ class Continuer {
     record.note = "natural-parameter step after a failed arclength corrector";
     angle_rejection_.reset();
     Accept(std::move(record), point, solved.u, new_tangent);
+    if (chord_error) return controller_.AfterPlottedSuccess(h, solved.iterations, *chord_error);
     return controller_.AfterSuccess(h, solved.iterations, 0.0);
+  }
+
+  // With plot_tolerance: the chord's distance from the plotted curve between the last point
+  // and u (unit scaled tangent `tangent`, h apart) in *chord_error, across a corner if the
+  // state's tangent turned by more than max_tangent_angle; false when it is above the
+  // tolerance. Without a usable sample *chord_error stays empty and the step counts as
+  // a gap (sized by the tangent's turn).
+  bool PlotCheck(const Eigen::VectorXd& u, const Eigen::VectorXd& tangent, double h, bool corner,
+                 std::optional<double>* chord_error) {
+    if (!plot_) return true;
+    if (plot_sample_) {
+      const std::optional<PlotChordControl::Sample> sample =
+          plot_->At(u, scaling_.FromScaled(tangent));
+      if (sample) *chord_error = plot_->ChordError(*plot_sample_, *sample, h, corner);
+    }
+    if (!*chord_error) {
+      ++plot_gaps_;
+      return true;
+    }
+    return **chord_error <= plot_->tolerance();
   }
 
   // A correction accepted at the residual's rounding floor, above residual_tolerance: said in
@@ -437,6 +488,10 @@ class Continuer {
     point.y = u.head(n());
     point.tangent_y = tangent_.head(n());
     point.tangent_lambda = tangent_(n());
+    if (plot_) {
+      plot_sample_ = plot_->At(u_, tangent_);
+      if (plot_sample_) plot_->Include(*plot_sample_);
+    }
     const int index = static_cast<int>(branch_.points.size());
     branch_.points.push_back(point);
     progress_.Point(index, branch_.points.back());
@@ -463,6 +518,9 @@ class Continuer {
   Eigen::VectorXd u_;        // last accepted point (y, λ)
   Eigen::VectorXd tangent_;  // its tangent direction, unit in the current scaling
   std::optional<ClosureDetector> closure_;
+  std::optional<PlotChordControl> plot_;                 // with plot_tolerance > 0
+  std::optional<PlotChordControl::Sample> plot_sample_;  // at u_, if the problem gave one
+  int plot_gaps_ = 0;  // accepted steps without a chord error (no usable plot sample)
   // The last step rejected for its tangent turn, to tell a kink from a too-long step.
   struct AngleRejection {
     double step;

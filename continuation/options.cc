@@ -43,6 +43,10 @@ void ContinuationOptions::Validate() const {
           "must be positive and finite");
   Require(max_tangent_angle > 0.0 && max_tangent_angle < std::numbers::pi, "max_tangent_angle",
           "must lie in (0, pi)");
+  Require(std::isfinite(plot_tolerance) && plot_tolerance >= 0.0, "plot_tolerance",
+          "must be finite and non-negative (0 = off)");
+  Require(max_plot_turn_angle > 0.0 && max_plot_turn_angle < std::numbers::pi,
+          "max_plot_turn_angle", "must lie in (0, pi)");
   Require(std::isfinite(fold_tolerance) && fold_tolerance > 0.0, "fold_tolerance",
           "must be positive and finite");
   Require(max_fold_iterations >= 1, "max_fold_iterations", "must be at least 1");

@@ -25,18 +25,24 @@ struct ContinuationOptions {
   double step_increase = 2.0;  // largest growth factor of the step after an easy step
   double step_decrease = 0.5;  // factor applied to a rejected step
 
-  int max_points = 10000;                // stop after this many points on the branch
-  int max_newton_iterations = 15;        // corrector iterations before a step is rejected
-  int target_newton_iterations = 4;      // AUTO-style: steps adapt towards this count
-  int max_start_iterations = 50;         // Newton iterations for the starting point
-  double newton_tolerance = 1e-10;       // scaled size of the last Newton update
-  double residual_tolerance = 1e-8;      // ‖R‖ relative to the residual scale (‖R(0, λ0)‖)
-  bool line_search = true;               // backtracking on ‖R‖ inside Newton (nonsmooth R)
+  int max_points = 10000;            // stop after this many points on the branch
+  int max_newton_iterations = 15;    // corrector iterations before a step is rejected
+  int target_newton_iterations = 4;  // AUTO-style: steps adapt towards this count
+  int max_start_iterations = 50;     // Newton iterations for the starting point
+  double newton_tolerance = 1e-10;   // scaled size of the last Newton update
+  double residual_tolerance = 1e-8;  // ‖R‖ relative to the residual scale (‖R(0, λ0)‖)
+  bool line_search = true;           // backtracking on ‖R‖ inside Newton (nonsmooth R)
 
   double max_tangent_angle = 0.35;  // rad (≈ 20°); larger turns between tangents are retried
-  bool detect_folds = true;         // localise sign changes of the tangent's λ component
-  double fold_tolerance = 1e-8;     // relative accuracy in λ of a localised fold
-  int max_fold_iterations = 40;     // secant iterations of the fold localisation
+  // Largest distance of a chord from the plotted curve (ContinuationProblem::PlotCoordinates),
+  // in each (λ, coordinate) plane with λ over |lambda_end − lambda_start|; steps are sized to
+  // it instead of the tangent's turn, which then only guards against jumps of branch (turns
+  // above max_plot_turn_angle are retried). 0 = off: the tangent's turn sizes the steps.
+  double plot_tolerance = 0.0;
+  double max_plot_turn_angle = 1.2;  // rad; the guard on the full tangent's turn with a plot
+  bool detect_folds = true;          // localise sign changes of the tangent's λ component
+  double fold_tolerance = 1e-8;      // relative accuracy in λ of a localised fold
+  int max_fold_iterations = 40;      // secant iterations of the fold localisation
 
   // λ scale s_λ; 0 picks max(|lambda_start|, |lambda_end|) (or 1 if both vanish).
   double lambda_scale = 0.0;

@@ -5,6 +5,10 @@
 
 namespace nfrc {
 
+// How a plotted coordinate is drawn: deviations count in its own unit over the largest
+// |value| of the branch so far (linear), or in its logarithm (log: 1e-3 is 0.1 %).
+enum class PlotScale { kLinear, kLog };
+
 // An equation R(y, λ) = 0 to be followed in the parameter λ. The engine knows nothing
 // else about it. Jacobians are dense: the problems continued here are condensed ones.
 class ContinuationProblem {
@@ -36,6 +40,15 @@ class ContinuationProblem {
   // linear part where the laws enter only through their own unknowns (friction forces).
   // Default: none (one dense LU of everything).
   virtual std::vector<std::vector<int>> EliminationBlocks() const { return {}; }
+
+  // The curve as the user plots it: a few coordinates of the point (e.g. an amplitude or an
+  // energy) drawn against λ, one scale each (default: none). With
+  // ContinuationOptions::plot_tolerance set, the engine sizes the steps so that every chord
+  // stays that close to the curve in each (λ, coordinate) plane. Log-scale values must be > 0.
+  virtual std::vector<PlotScale> PlotScales() const { return {}; }
+  virtual Eigen::VectorXd PlotCoordinates(const Eigen::VectorXd& /*y*/, double /*lambda*/) {
+    return {};
+  }
 
   // Estimated rounding noise of ‖R(y, λ)‖ (units of R): the floor below which no Newton
   // step can push the residual while λ moves, e.g. the rounding of a condensed operator of

@@ -17,6 +17,12 @@ class StepController {
   // over the angle, the factor clamped to [step_decrease, step_increase].
   double AfterSuccess(double step, int iterations, double angle) const;
 
+  // Next step after an accepted one whose chord departs from the plotted curve by
+  // `chord_error` (PlotChordControl): scaled by target/iterations and by the square root of
+  // half the plot tolerance over the error (the error of a chord grows as the step squared),
+  // clamped as above.
+  double AfterPlottedSuccess(double step, int iterations, double chord_error) const;
+
   // Step to retry with after a failed one: step·step_decrease, once min_step itself, then
   // nothing (the run is stalled).
   std::optional<double> AfterFailure(double step) const;

@@ -43,14 +43,17 @@ PlottedCurve Curve(const TraceResult& trace, Plotted plotted) {
   return curve;
 }
 
-// The reference of the accuracy figure: the same case with a tenth of the maximum step
-// (first step no longer than it), stability off (it does not change the curve).
+// The reference of the accuracy figure: the same case with a tenth of the default maximum
+// step (or of the case's, if smaller; first step no longer than it), steps sized by the
+// tangent's turn (plot_tolerance off: the reference does not rest on the step control it
+// judges), stability off (it does not change the curve).
 double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
   ContinuationOptions& options = the_case.continuation;
-  options.max_step /= 10.0;
+  options.max_step = std::min(options.max_step, ContinuationOptions().max_step) / 10.0;
   options.initial_step = std::min(options.initial_step, options.max_step);
   options.min_step = std::min(options.min_step, 0.1 * options.initial_step);
   options.max_points *= 20;
+  options.plot_tolerance = 0.0;
   the_case.stability.enabled = false;
   const TraceResult reference = TraceCase(the_case);
   return CurveDeviation(Curve(reference, plotted), Curve(trace, plotted));
@@ -129,7 +132,7 @@ PlottedCurve TraceWithWeight(const Case& the_case, double weight, double* second
   auto system = BuildSystem(the_case);
   system->set_own_step_weight(weight);
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
-  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
   *seconds = Seconds(start);
   *newton = branch.summary.total_newton_iterations;
   PointAnalyzer analyzer(*system, the_case.output_dofs);

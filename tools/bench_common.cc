@@ -29,7 +29,7 @@ Branch TimeTraces(const Case& the_case, int repeats, std::vector<double>* times)
     const auto start = Clock::now();
     auto system = BuildSystem(the_case);
     const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
-    branch = Trace(*system, the_case.continuation, nullptr, &guess);
+    branch = Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
     times->push_back(Seconds(start));
   }
   return branch;

@@ -77,6 +77,15 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
   options.residual_tolerance =
       fields.OptionalNumber("residual_tolerance", options.residual_tolerance);
   options.max_tangent_angle = fields.OptionalNumber("max_tangent_angle", options.max_tangent_angle);
+  options.plot_tolerance = fields.OptionalNumber("plot_tolerance", options.plot_tolerance);
+  options.max_plot_turn_angle =
+      fields.OptionalNumber("max_plot_turn_angle", options.max_plot_turn_angle);
+  const std::string plot_measure = fields.OptionalString("plot_measure", "max_abs");
+  if (plot_measure == "energy") {
+    result.plot_measure = PlotMeasure::kEnergy;
+  } else if (plot_measure != "max_abs") {
+    fields.Fail("plot_measure", "must be \"max_abs\" or \"energy\", got \"" + plot_measure + "\"");
+  }
   options.detect_folds = fields.OptionalBool("detect_folds", options.detect_folds);
   options.fold_tolerance = fields.OptionalNumber("fold_tolerance", options.fold_tolerance);
   options.line_search = fields.OptionalBool("line_search", options.line_search);

@@ -218,7 +218,8 @@ void BenchRefinedRod(int elements, int max_points) {
   const Eigen::VectorXd guess = nfrc::StartingGuess(the_case, *system, nullptr);
   const double start_time = Seconds(start);
   start = Clock::now();
-  const nfrc::Branch branch = nfrc::Trace(*system, the_case.continuation, nullptr, &guess);
+  const nfrc::Branch branch =
+      nfrc::Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
   const double trace_time = Seconds(start);
   const auto& s = branch.summary;
   int fallbacks = 0;  // accepted steps solved at fixed ω after the arclength corrector failed

@@ -31,6 +31,8 @@ const std::vector<std::pair<const char*, OptionMember>>& Options() {
       {"newton_tolerance", &O::newton_tolerance},
       {"residual_tolerance", &O::residual_tolerance},
       {"max_tangent_angle", &O::max_tangent_angle},
+      {"plot_tolerance", &O::plot_tolerance},
+      {"max_plot_turn_angle", &O::max_plot_turn_angle},
       {"detect_folds", &O::detect_folds},
       {"fold_tolerance", &O::fold_tolerance},
       {"line_search", &O::line_search},
@@ -44,6 +46,7 @@ py::dict GetContinuation(const Case& c) {
   for (const auto& [name, member] : Options()) {
     std::visit([&, name = name](auto m) { d[name] = c.continuation.*m; }, member);
   }
+  d["plot_measure"] = c.plot_measure == PlotMeasure::kEnergy ? "energy" : "max_abs";
   d["points"] = c.stepping.points;
   d["track_contact"] = c.stepping.track_contact;
   return d;
@@ -58,6 +61,14 @@ void SetOption(Case& c, const std::string& key, const py::handle& value) {
                        "\"");
     }
     c.method = method == "arclength" ? Method::kArclength : Method::kLemkeStepping;
+    return;
+  }
+  if (key == "plot_measure") {
+    const auto measure = Cast<std::string>(value, field, "a string");
+    if (measure != "max_abs" && measure != "energy") {
+      throw InputError(field + ": must be \"max_abs\" or \"energy\", got \"" + measure + "\"");
+    }
+    c.plot_measure = measure == "energy" ? PlotMeasure::kEnergy : PlotMeasure::kMaxAbs;
     return;
   }
   if (key == "points") {

@@ -38,9 +38,10 @@ FRC_N10_TITLE = ("Two-DOF friction oscillator (Legrand & Pierre 2024, Fig. 7): "
 
 
 def friction_dict(normal_load=10.0, max_harmonic=59, samples=1024, omega=(0.1, 0.8),
-                  title=FRC_N10_TITLE, signals_at=None):
+                  title=FRC_N10_TITLE, signals_at=None, plot_steps=True):
     """The two-DOF friction oscillator of cases/friction/ (by default frc_n10.json), with
-    its matrices as numpy arrays."""
+    its matrices as numpy arrays; plot_steps: the FRC files' steps sized by the plotted
+    energy."""
     import numpy as np
     harmonics = {"max": max_harmonic, "odd_only": True}
     if samples:
@@ -48,6 +49,9 @@ def friction_dict(normal_load=10.0, max_harmonic=59, samples=1024, omega=(0.1, 0
     output = {"dofs": ["x1", "x2"]}
     if signals_at is not None:
         output["signals_at"] = signals_at
+    continuation = {"omega_start": omega[0], "omega_end": omega[1]}
+    if plot_steps:
+        continuation.update(plot_tolerance=5e-4, max_step=0.5, plot_measure="energy")
     return {
         "title": title,
         "model": {
@@ -61,7 +65,7 @@ def friction_dict(normal_load=10.0, max_harmonic=59, samples=1024, omega=(0.1, 0
         "nonlinearities": [{"type": "coulomb_friction", "dof": np.int64(1), "mu": 0.9,
                             "normal_load": normal_load}],
         "harmonics": harmonics,
-        "continuation": {"omega_start": omega[0], "omega_end": omega[1]},
+        "continuation": continuation,
         "output": output,
     }
 

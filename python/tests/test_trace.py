@@ -15,7 +15,7 @@ from conftest import friction_dict
 ACCEPTANCE = {
     "convergence_e_nphi40": dict(max_harmonic=39, samples=None, omega=(0.308, 0.309),
                                  title="Point E (N = 10, omega = 0.308) with N_phi = 40",
-                                 signals_at=[0.308]),
+                                 signals_at=[0.308], plot_steps=False),
     "frc_n10": dict(),
 }
 

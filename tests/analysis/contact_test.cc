@@ -14,11 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "continuation/fixed_lambda.h"
-#include "tools/case_file.h"
-#include "tools/model_reader.h"
-#include "nonlinearities/dlft_contact.h"
 #include "analysis/trace.h"
+#include "continuation/fixed_lambda.h"
+#include "nonlinearities/dlft_contact.h"
 #include "tools/case_file.h"
 #include "tools/model_reader.h"
 #include "tools/run_case.h"
@@ -63,7 +61,7 @@ TEST_CASE("contact: a rod with a distant obstacle reproduces the linear FRF") {
   const ModelDefinition reference_model = BuildModel(source["model"], base_dir);
   Case the_case = ParseCase(source, base_dir);
   auto system = BuildSystem(the_case);
-  const Branch branch = Trace(*system, the_case.continuation);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, nullptr, the_case.Plot());
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
 
@@ -166,7 +164,7 @@ struct Traced {
 Traced TraceCase(const nlohmann::json& source) {
   Traced t{ParseCase(source, "."), nullptr, {}};
   t.system = BuildSystem(t.the_case);
-  t.branch = Trace(*t.system, t.the_case.continuation);
+  t.branch = Trace(*t.system, t.the_case.continuation, nullptr, nullptr, t.the_case.Plot());
   return t;
 }
 

@@ -17,7 +17,7 @@ constexpr double kFoldTolerance = 1e-6;
 Branch TraceCaseFile(const std::string& name, std::unique_ptr<HarmonicSystem>* keep = nullptr) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
   auto system = BuildSystem(the_case);
-  Branch branch = Trace(*system, the_case.continuation);
+  Branch branch = Trace(*system, the_case.continuation, nullptr, nullptr, the_case.Plot());
   if (keep != nullptr) *keep = std::move(system);
   return branch;
 }

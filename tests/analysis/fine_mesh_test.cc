@@ -43,7 +43,7 @@ TEST_CASE("A 20 000-element rod in contact is traced without fixed-omega fallbac
 
   auto system = BuildSystem(the_case);
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
-  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
   REQUIRE(branch.points.size() == 6);
   for (const StepRecord& record : branch.summary.history) {
     INFO(record.note);

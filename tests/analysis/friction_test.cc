@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "support/den_hartog.h"
 #include "analysis/point_measures.h"
 #include "analysis/trace.h"
+#include "support/den_hartog.h"
 #include "tools/case_file.h"
 #include "tools/run_case.h"
 
@@ -141,7 +141,7 @@ TEST_CASE("friction with mu = 0 reproduces the linear solution") {
   source["continuation"]["omega_end"] = 0.8;
   Case the_case = ParseEdited(source);
   auto system = BuildSystem(the_case);
-  const Branch branch = Trace(*system, the_case.continuation);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, nullptr, the_case.Plot());
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
 
@@ -195,7 +195,7 @@ TEST_CASE(
   source["continuation"]["omega_end"] = 1.6;
   Case the_case = ParseEdited(source);
   auto system = BuildSystem(the_case);
-  const Branch branch = Trace(*system, the_case.continuation);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, nullptr, the_case.Plot());
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.points.size() > 10);
   const HarmonicSet& set = system->harmonic_set();
@@ -493,7 +493,7 @@ TEST_CASE("one-DOF Coulomb FRC peak with 21 odd harmonics vs NLvib") {
   REQUIRE(the_case.harmonics.odd_only());
   auto system = BuildSystem(the_case);
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
-  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   const HarmonicSet& set = system->harmonic_set();
   std::vector<double> h1;

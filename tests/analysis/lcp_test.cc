@@ -11,12 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "continuation/fixed_lambda.h"
-#include "tools/input_fields.h"
 #include "analysis/lcp_hbm.h"
 #include "analysis/trace.h"
-#include "analysis/trace.h"
+#include "continuation/fixed_lambda.h"
 #include "tools/case_file.h"
+#include "tools/input_fields.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -31,6 +30,9 @@ nlohmann::json RodSource(int max_harmonic, int samples, const std::string& type)
       ReadCaseFile(std::string(NFRC_SOURCE_DIR) + "/cases/rod/rigid_nh20.json").source;
   source["nonlinearities"][0]["type"] = type;
   source["harmonics"] = {{"max", max_harmonic}, {"samples", samples}};
+  // The file's arclength step settings do not apply to Lemke stepping, which refuses them.
+  source["continuation"].erase("plot_tolerance");
+  source["continuation"].erase("max_step");
   return source;
 }
 

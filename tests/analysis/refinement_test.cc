@@ -1,5 +1,7 @@
 // DLFT ε-refinement (Vadcard et al. 2022, Sec. 4.1): warm-started solves at one ω tend to the
 // LCP-HBM solution as ε grows, and an interrupt ends the refinement with what was done.
+#include "analysis/refinement.h"
+
 #include <doctest/doctest.h>
 
 #include <atomic>
@@ -8,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "analysis/refinement.h"
 #include "tools/case_file.h"
 #include "tools/refinement_writer.h"
 

@@ -45,7 +45,7 @@ TEST_CASE("the Schur complement onto the friction force gives the whole LU's sol
   const std::vector<std::vector<int>> blocks = system->EliminationBlocks();
   REQUIRE_FALSE(blocks.empty());
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, nullptr);
-  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess);
+  const Branch branch = Trace(*system, the_case.continuation, nullptr, &guess, the_case.Plot());
   REQUIRE(branch.points.size() >= 100);
 
   WholeLu whole(*system);

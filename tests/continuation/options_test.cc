@@ -62,6 +62,11 @@ TEST_CASE("options: each invalid field is named in the message") {
   CHECK(ValidationMessage([](auto& o) {
           o.max_tangent_angle = 4.0;
         }).rfind("max_tangent_angle:", 0) == 0);
+  CHECK(ValidationMessage([](auto& o) { o.plot_tolerance = -1e-3; }).rfind("plot_tolerance:", 0) ==
+        0);
+  CHECK(ValidationMessage([](auto& o) {
+          o.max_plot_turn_angle = 0.0;
+        }).rfind("max_plot_turn_angle:", 0) == 0);
   CHECK(ValidationMessage([](auto& o) { o.fold_tolerance = 0.0; }).rfind("fold_tolerance:", 0) ==
         0);
   CHECK(ValidationMessage([](auto& o) {

@@ -131,6 +131,10 @@ case_error("omega_start_negative", DUFFING, setitem(["continuation", "omega_star
            "continuation.omega_start")
 case_error("omega_end_equal", DUFFING, setitem(["continuation", "omega_end"], 0.5),
            "continuation.omega_end")
+case_error("plot_measure_unknown", DUFFING, setitem(["continuation", "plot_measure"], "peak"),
+           "continuation.plot_measure")
+case_error("plot_tolerance_negative", DUFFING, setitem(["continuation", "plot_tolerance"], -1e-3),
+           "continuation.plot_tolerance")
 case_error("step_negative", DUFFING, setitem(["continuation", "step"], -0.1), "continuation.")
 case_error("max_points_zero", DUFFING, setitem(["continuation", "max_points"], 0),
            "continuation.max_points")
