@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "analysis/harmonic_system.h"
-#include "analysis/plotted_system.h"
+#include "analysis/plot_curve.h"
 #include "analysis/stability.h"
 #include "analysis/validation_settings.h"
 #include "continuation/options.h"

@@ -116,10 +116,9 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
   }
   const Eigen::VectorXd start =
       guess != nullptr ? *guess : system.InitialGuess(options.lambda_start);
-  std::optional<PlottedSystem> plotted;
-  if (options.plot_tolerance > 0.0) plotted.emplace(system, plot);
-  Branch branch = plotted ? Continue(*plotted, start, options, observer)
-                          : Continue(system, start, options, observer);
+  std::optional<MeasureCurve> curve;
+  if (options.plot_tolerance > 0.0) curve.emplace(system, plot);
+  Branch branch = Continue(system, start, options, observer, curve ? &*curve : nullptr);
   if (!branch.summary.success() && !system.last_error().empty()) {
     branch.summary.message += " (last evaluation error: " + system.last_error() + ")";
   }

@@ -90,7 +90,7 @@ void SeedZeroGroups(const Linearization& linearization, Scaling* scaling) {
 class Continuer {
  public:
   Continuer(ContinuationProblem& problem, const ContinuationOptions& options,
-            ContinuationObserver* observer)
+            ContinuationObserver* observer, PlotCurve* plot)
       : evaluator_(problem),
         options_(options),
         observer_(observer),
@@ -113,7 +113,10 @@ class Continuer {
       turn_weights_ << weights, 1.0;
     }
     if (options.plot_tolerance > 0.0) {
-      plot_.emplace(problem, PlotSpan(options), options.plot_tolerance);
+      if (plot == nullptr) {
+        throw std::invalid_argument("plot_tolerance: set, but no plotted curve was given");
+      }
+      plot_.emplace(*plot, PlotSpan(options), options.plot_tolerance);
     }
     settings_.max_iterations = options.max_newton_iterations;
     settings_.update_tolerance = options.newton_tolerance;
@@ -289,10 +292,11 @@ class Continuer {
       }
       record.note = "kink: tangent jumped by " + Number(angle) + " rad";
     }
-    std::optional<double> chord_error;
-    if (!PlotCheck(corrected.u, new_tangent, h, angle > options_.max_tangent_angle, &chord_error)) {
+    PlotVerdict plotted =
+        PlotCheck(corrected.u, new_tangent, h, angle > options_.max_tangent_angle);
+    if (!plotted.within) {
       return Reject(std::move(record), "chord departs from the plotted curve by " +
-                                           Number(*chord_error) + ", above plot_tolerance");
+                                           Number(*plotted.chord_error) + ", above plot_tolerance");
     }
     angle_rejection_.reset();
     // A kink's turn says nothing about the curvature ahead: it does not shrink the next step.
@@ -313,7 +317,8 @@ class Continuer {
     point.step = h;
     point.newton_iterations = corrected.iterations;
     point.residual_norm = corrected.residual_norm;
-    Accept(std::move(record), point, corrected.u, new_tangent);
+    const std::optional<double> chord_error = plotted.chord_error;
+    Accept(std::move(record), point, corrected.u, new_tangent, std::move(plotted.sample));
     if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
@@ -345,41 +350,43 @@ class Continuer {
         new_tangent(n()) * t_lambda <= 0.0) {
       return std::nullopt;
     }
-    std::optional<double> chord_error;
-    if (!PlotCheck(solved.u, new_tangent, scaling_.Norm(solved.u - u_),
-                   TurnAngle(tangent_scaled, new_tangent) > options_.max_tangent_angle,
-                   &chord_error)) {
-      return std::nullopt;
-    }
+    PlotVerdict plotted =
+        PlotCheck(solved.u, new_tangent, scaling_.Norm(solved.u - u_),
+                  TurnAngle(tangent_scaled, new_tangent) > options_.max_tangent_angle);
+    if (!plotted.within) return std::nullopt;
     BranchPoint point;
     point.step = scaling_.Norm(solved.u - u_);
     point.newton_iterations = solved.iterations;
     point.residual_norm = solved.residual_norm;
     record.note = "natural-parameter step after a failed arclength corrector";
     angle_rejection_.reset();
-    Accept(std::move(record), point, solved.u, new_tangent);
+    const std::optional<double> chord_error = plotted.chord_error;
+    Accept(std::move(record), point, solved.u, new_tangent, std::move(plotted.sample));
     if (chord_error) return controller_.AfterPlottedSuccess(h, solved.iterations, *chord_error);
     return controller_.AfterSuccess(h, solved.iterations, 0.0);
   }
 
-  // With plot_tolerance: the chord's distance from the plotted curve between the last point
-  // and u (unit scaled tangent `tangent`, h apart) in *chord_error, across a corner if the
-  // state's tangent turned by more than max_tangent_angle; false when it is above the
-  // tolerance. Without a usable sample *chord_error stays empty and the step counts as
-  // a gap (sized by the tangent's turn).
-  bool PlotCheck(const Eigen::VectorXd& u, const Eigen::VectorXd& tangent, double h, bool corner,
-                 std::optional<double>* chord_error) {
-    if (!plot_) return true;
-    if (plot_sample_) {
-      const std::optional<PlotChordControl::Sample> sample =
-          plot_->At(u, scaling_.FromScaled(tangent));
-      if (sample) *chord_error = plot_->ChordError(*plot_sample_, *sample, h, corner);
-    }
-    if (!*chord_error) {
+  // With plot_tolerance: the sample at u and the chord's distance from the plotted curve
+  // between the last point and u (unit scaled tangent `tangent`, h apart), across a corner if
+  // the state's tangent turned by more than max_tangent_angle. Without a usable sample the
+  // step counts as a gap (sized by the tangent's turn).
+  struct PlotVerdict {
+    std::optional<PlotChordControl::Sample> sample;  // taken along `tangent`, current scaling
+    std::optional<double> chord_error;
+    bool within = true;  // chord_error (if any) within plot_tolerance
+  };
+  PlotVerdict PlotCheck(const Eigen::VectorXd& u, const Eigen::VectorXd& tangent, double h,
+                        bool corner) {
+    PlotVerdict verdict;
+    if (!plot_) return verdict;
+    verdict.sample = plot_->At(u, scaling_.FromScaled(tangent));
+    if (verdict.sample && plot_sample_) {
+      verdict.chord_error = plot_->ChordError(*plot_sample_, *verdict.sample, h, corner);
+      verdict.within = *verdict.chord_error <= plot_->tolerance();
+    } else {
       ++plot_gaps_;
-      return true;
     }
-    return **chord_error <= plot_->tolerance();
+    return verdict;
   }
 
   // A correction accepted at the residual's rounding floor, above residual_tolerance: said in
@@ -408,11 +415,12 @@ class Continuer {
 
   // Records an accepted step and its point, then checks the stop rules.
   void Accept(StepRecord record, const BranchPoint& point, const Eigen::VectorXd& u,
-              const Eigen::VectorXd& tangent_scaled) {
+              const Eigen::VectorXd& tangent_scaled,
+              std::optional<PlotChordControl::Sample> plot_sample) {
     const Eigen::VectorXd u_previous = u_;
     record.accepted = true;
     branch_.summary.history.push_back(std::move(record));
-    AddPoint(point, u, tangent_scaled);
+    AddPoint(point, u, tangent_scaled, std::move(plot_sample));
     if (!finished_ && closure_->Closes(scaling_, u_previous, u_, tangent_)) {
       Finish(
           TerminationReason::kClosedCurve,
@@ -477,10 +485,12 @@ class Continuer {
   }
 
   // Appends a converged point; `tangent_scaled` is its unit tangent in the current scaling,
-  // renormalised after the scaling has taken the point in.
-  void AddPoint(BranchPoint point, const Eigen::VectorXd& u,
-                const Eigen::VectorXd& tangent_scaled) {
+  // renormalised after the scaling has taken the point in. `plot_sample`: the step's plot
+  // sample at u along that tangent, if it took one (else it is taken here).
+  void AddPoint(BranchPoint point, const Eigen::VectorXd& u, const Eigen::VectorXd& tangent_scaled,
+                std::optional<PlotChordControl::Sample> plot_sample = std::nullopt) {
     const Eigen::VectorXd direction = scaling_.FromScaled(tangent_scaled);
+    const Eigen::VectorXd scales_before = scaling_.scales();
     scaling_.Include(u.head(n()));
     tangent_ = direction / scaling_.Norm(direction);
     u_ = u;
@@ -489,7 +499,13 @@ class Continuer {
     point.tangent_y = tangent_.head(n());
     point.tangent_lambda = tangent_(n());
     if (plot_) {
-      plot_sample_ = plot_->At(u_, tangent_);
+      // The step's sample is per unit arclength in the scaling before this point: reused
+      // while the point leaves the scaling as it was (most steps), else taken again.
+      if (plot_sample && scaling_.scales() == scales_before) {
+        plot_sample_ = std::move(plot_sample);
+      } else {
+        plot_sample_ = plot_->At(u_, tangent_);
+      }
       if (plot_sample_) plot_->Include(*plot_sample_);
     }
     const int index = static_cast<int>(branch_.points.size());
@@ -536,9 +552,10 @@ class Continuer {
 }  // namespace
 
 Branch Continue(ContinuationProblem& problem, const Eigen::VectorXd& y_guess,
-                const ContinuationOptions& options, ContinuationObserver* observer) {
+                const ContinuationOptions& options, ContinuationObserver* observer,
+                PlotCurve* plot) {
   options.Validate();
-  return Continuer(problem, options, observer).Run(y_guess);
+  return Continuer(problem, options, observer, plot).Run(y_guess);
 }
 
 }  // namespace nfrc

@@ -23,6 +23,7 @@ class ContinuationObserver {
 // augmented matrix, which stays regular at simple folds where R_y is singular. Numerical
 // failures end up in the summary, never as exceptions; invalid options throw.
 Branch Continue(ContinuationProblem& problem, const Eigen::VectorXd& y_guess,
-                const ContinuationOptions& options, ContinuationObserver* observer = nullptr);
+                const ContinuationOptions& options, ContinuationObserver* observer = nullptr,
+                PlotCurve* plot = nullptr);
 
 }  // namespace nfrc

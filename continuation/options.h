@@ -34,7 +34,7 @@ struct ContinuationOptions {
   bool line_search = true;           // backtracking on ‖R‖ inside Newton (nonsmooth R)
 
   double max_tangent_angle = 0.35;  // rad (≈ 20°); larger turns between tangents are retried
-  // Largest distance of a chord from the plotted curve (ContinuationProblem::PlotCoordinates),
+  // Largest distance of a chord from the plotted curve (the PlotCurve given to Continue),
   // in each (λ, coordinate) plane with λ over |lambda_end − lambda_start|; steps are sized to
   // it instead of the tangent's turn, which then only guards against jumps of branch (turns
   // above max_plot_turn_angle are retried). 0 = off: the tangent's turn sizes the steps.

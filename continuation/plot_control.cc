@@ -29,16 +29,15 @@ double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 
 }  // namespace
 
-PlotChordControl::PlotChordControl(ContinuationProblem& problem, double lambda_span,
-                                   double tolerance)
-    : problem_(problem),
-      scales_(problem.PlotScales()),
+PlotChordControl::PlotChordControl(PlotCurve& curve, double lambda_span, double tolerance)
+    : curve_(curve),
+      scales_(curve.Scales()),
       lambda_span_(lambda_span),
       tolerance_(tolerance),
       largest_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(scales_.size()))) {
   if (scales_.empty()) {
     throw std::invalid_argument(
-        "plot_tolerance: the problem has no plot coordinates (PlotScales() is empty)");
+        "plot_tolerance: the plotted curve has no coordinates (PlotCurve::Scales() is empty)");
   }
   if (!(lambda_span > 0.0) || !(tolerance > 0.0)) {
     throw std::logic_error("PlotChordControl: lambda_span and tolerance must be positive");
@@ -47,9 +46,9 @@ PlotChordControl::PlotChordControl(ContinuationProblem& problem, double lambda_s
 
 std::optional<Eigen::VectorXd> PlotChordControl::Coordinates(const Eigen::VectorXd& u) {
   const Eigen::Index n = u.size() - 1;
-  Eigen::VectorXd values = problem_.PlotCoordinates(u.head(n), u(n));
+  Eigen::VectorXd values = curve_.Coordinates(u.head(n), u(n));
   if (values.size() != static_cast<Eigen::Index>(scales_.size())) {
-    throw std::logic_error("ContinuationProblem: PlotCoordinates() size != PlotScales() size");
+    throw std::logic_error("PlotCurve: Coordinates() size != Scales() size");
   }
   for (Eigen::Index j = 0; j < values.size(); ++j) {
     if (scales_[j] == PlotScale::kLog) {

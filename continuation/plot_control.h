@@ -25,10 +25,11 @@ class PlotChordControl {
   };
 
   // lambda_span (> 0): the λ extent the plot spans; tolerance (> 0): plot_tolerance.
-  PlotChordControl(ContinuationProblem& problem, double lambda_span, double tolerance);
+  // Throws std::invalid_argument if `curve` has no coordinates.
+  PlotChordControl(PlotCurve& curve, double lambda_span, double tolerance);
 
   // The sample at u = (y, λ) with the branch heading along `direction` (unscaled, of unit
-  // scaled norm). Nothing when the problem gives no usable coordinates there (a non-finite
+  // scaled norm). Nothing when the curve gives no usable coordinates there (a non-finite
   // value, or one ≤ 0 on a log axis).
   std::optional<Sample> At(const Eigen::VectorXd& u, const Eigen::VectorXd& direction);
 
@@ -48,7 +49,7 @@ class PlotChordControl {
  private:
   std::optional<Eigen::VectorXd> Coordinates(const Eigen::VectorXd& u);
 
-  ContinuationProblem& problem_;
+  PlotCurve& curve_;
   std::vector<PlotScale> scales_;
   double lambda_span_;
   double tolerance_;

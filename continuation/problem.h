@@ -9,6 +9,19 @@ namespace nfrc {
 // |value| of the branch so far (linear), or in its logarithm (log: 1e-3 is 0.1 %).
 enum class PlotScale { kLinear, kLog };
 
+// The curve as the user plots a branch: a few coordinates of a point (e.g. an amplitude or
+// an energy) drawn against λ, one scale each. Given to Continue with
+// ContinuationOptions::plot_tolerance, it sizes the steps so that every chord stays that
+// close to the curve in each (λ, coordinate) plane.
+class PlotCurve {
+ public:
+  virtual ~PlotCurve() = default;
+  // One scale per coordinate; at least one.
+  virtual std::vector<PlotScale> Scales() const = 0;
+  // The coordinates at (y, λ), as many as Scales(); log-scale values must be > 0.
+  virtual Eigen::VectorXd Coordinates(const Eigen::VectorXd& y, double lambda) = 0;
+};
+
 // An equation R(y, λ) = 0 to be followed in the parameter λ. The engine knows nothing
 // else about it. Jacobians are dense: the problems continued here are condensed ones.
 class ContinuationProblem {
@@ -40,15 +53,6 @@ class ContinuationProblem {
   // linear part where the laws enter only through their own unknowns (friction forces).
   // Default: none (one dense LU of everything).
   virtual std::vector<std::vector<int>> EliminationBlocks() const { return {}; }
-
-  // The curve as the user plots it: a few coordinates of the point (e.g. an amplitude or an
-  // energy) drawn against λ, one scale each (default: none). With
-  // ContinuationOptions::plot_tolerance set, the engine sizes the steps so that every chord
-  // stays that close to the curve in each (λ, coordinate) plane. Log-scale values must be > 0.
-  virtual std::vector<PlotScale> PlotScales() const { return {}; }
-  virtual Eigen::VectorXd PlotCoordinates(const Eigen::VectorXd& /*y*/, double /*lambda*/) {
-    return {};
-  }
 
   // Estimated rounding noise of ‖R(y, λ)‖ (units of R): the floor below which no Newton
   // step can push the residual while λ moves, e.g. the rounding of a condensed operator of

@@ -14,18 +14,12 @@ constexpr double kRounding = 1e-12;
 // between two samples it reads low by at most the curvature over (1/32)² of the chord.
 constexpr double kSamplingSlack = 2e-3;
 
-// A problem whose one plot coordinate is given by a function of (y, λ) = (y, λ).
-class PlotOnly : public ContinuationProblem {
+// A curve whose one coordinate is the unknown y itself.
+class PlotOnly : public PlotCurve {
  public:
   explicit PlotOnly(PlotScale scale) : scale_(scale) {}
-  int NumUnknowns() const override { return 1; }
-  bool Evaluate(const Eigen::VectorXd&, double, Eigen::VectorXd*, Eigen::MatrixXd*,
-                Eigen::VectorXd*) override {
-    return true;
-  }
-  std::vector<PlotScale> PlotScales() const override { return {scale_}; }
-  // The unknown y itself is plotted.
-  Eigen::VectorXd PlotCoordinates(const Eigen::VectorXd& y, double) override { return y; }
+  std::vector<PlotScale> Scales() const override { return {scale_}; }
+  Eigen::VectorXd Coordinates(const Eigen::VectorXd& y, double) override { return y; }
 
  private:
   PlotScale scale_;
@@ -59,8 +53,8 @@ double DenseChordDistance(F f, double l0, double l1, double unit) {
 }
 
 TEST_CASE("plot control: the chord error of a parabola is its exact distance from the chord") {
-  PlotOnly problem(PlotScale::kLinear);
-  PlotChordControl control(problem, 1.0, 1e-3);
+  PlotOnly curve(PlotScale::kLinear);
+  PlotChordControl control(curve, 1.0, 1e-3);
   // y = 0.8 λ², λ from 0.2 to 0.5 (h = Δλ with the λ slope 1); the cubic interpolant is the
   // parabola itself, so only the sampling in τ separates the two.
   auto f = [](double l) { return 0.8 * l * l; };
@@ -76,8 +70,8 @@ TEST_CASE("plot control: a peak overshot just before the end of a chord counts")
   // y = −(λ − 0.45)²: the peak lies inside the step but near its end, so the curve bulges
   // past the end point along the chord. The distance to the chord's line would miss most
   // of it; ChordError measures to the segment, as the accuracy of a drawn curve does.
-  PlotOnly problem(PlotScale::kLinear);
-  PlotChordControl control(problem, 1.0, 1e-3);
+  PlotOnly curve(PlotScale::kLinear);
+  PlotChordControl control(curve, 1.0, 1e-3);
   auto f = [](double l) { return -(l - 0.45) * (l - 0.45); };
   auto df = [](double l) { return -2.0 * (l - 0.45); };
   const double l0 = 0.2, l1 = 0.5;
@@ -89,8 +83,8 @@ TEST_CASE("plot control: a peak overshot just before the end of a chord counts")
 TEST_CASE("plot control: across a corner the apex of the end tangents is taken") {
   // y = |λ − 0.3|·2 from 0.1 to 0.6: straight pieces meeting at λ = 0.3. The cubic's bulge
   // is half the corner's height; the apex of the end tangents is the corner itself.
-  PlotOnly problem(PlotScale::kLinear);
-  PlotChordControl control(problem, 1.0, 1e-3);
+  PlotOnly curve(PlotScale::kLinear);
+  PlotChordControl control(curve, 1.0, 1e-3);
   auto f = [](double l) { return 2.0 * std::abs(l - 0.3); };
   const double l0 = 0.1, l1 = 0.6, h = l1 - l0;
   const double expected = DenseChordDistance(f, l0, l1, f(l1));
@@ -100,8 +94,8 @@ TEST_CASE("plot control: across a corner the apex of the end tangents is taken")
 }
 
 TEST_CASE("plot control: linear axes are scaled by the largest value, lambda by its span") {
-  PlotOnly problem(PlotScale::kLinear);
-  PlotChordControl control(problem, 2.0, 1e-3);
+  PlotOnly curve(PlotScale::kLinear);
+  PlotChordControl control(curve, 2.0, 1e-3);
   // y = 2λ², plotted as y over its largest value 2 (after Include) against x = λ/2 (span 2):
   // the curve 4x².
   auto f = [](double l) { return 10.0 * 0.8 * (l / 2.0) * (l / 2.0); };
@@ -115,8 +109,8 @@ TEST_CASE("plot control: linear axes are scaled by the largest value, lambda by 
 }
 
 TEST_CASE("plot control: samples take logarithms on log axes and refuse values <= 0") {
-  PlotOnly problem(PlotScale::kLog);
-  PlotChordControl control(problem, 1.0, 1e-3);
+  PlotOnly curve(PlotScale::kLog);
+  PlotChordControl control(curve, 1.0, 1e-3);
   Eigen::VectorXd u(2), direction(2);
   u << 2.0, 0.3;
   direction << 0.5, 1.0;
@@ -130,16 +124,13 @@ TEST_CASE("plot control: samples take logarithms on log axes and refuse values <
   CHECK_FALSE(control.At(u, direction).has_value());
 }
 
-TEST_CASE("plot control: a problem without plot coordinates is refused") {
-  class Plain : public ContinuationProblem {
+TEST_CASE("plot control: a curve without coordinates is refused") {
+  class Empty : public PlotCurve {
    public:
-    int NumUnknowns() const override { return 1; }
-    bool Evaluate(const Eigen::VectorXd&, double, Eigen::VectorXd*, Eigen::MatrixXd*,
-                  Eigen::VectorXd*) override {
-      return true;
-    }
-  } problem;
-  CHECK_THROWS_AS(PlotChordControl(problem, 1.0, 1e-3), std::invalid_argument);
+    std::vector<PlotScale> Scales() const override { return {}; }
+    Eigen::VectorXd Coordinates(const Eigen::VectorXd&, double) override { return {}; }
+  } curve;
+  CHECK_THROWS_AS(PlotChordControl(curve, 1.0, 1e-3), std::invalid_argument);
 }
 
 }  // namespace

@@ -19,10 +19,10 @@ using testing::DuffingProblem;
 constexpr double kEstimateSlack = 1.5;
 
 // The Duffing branch plotted as its amplitude A = √(a² + b²) on a linear axis.
-class PlottedDuffing : public DuffingProblem {
+class DuffingAmplitude : public PlotCurve {
  public:
-  std::vector<PlotScale> PlotScales() const override { return {PlotScale::kLinear}; }
-  Eigen::VectorXd PlotCoordinates(const Eigen::VectorXd& y, double) override {
+  std::vector<PlotScale> Scales() const override { return {PlotScale::kLinear}; }
+  Eigen::VectorXd Coordinates(const Eigen::VectorXd& y, double) override {
     return Eigen::VectorXd::Constant(1, std::hypot(y(0), y(1)));
   }
 };
@@ -80,14 +80,15 @@ double Deviation(const Branch& branch, double span) {
 }
 
 Branch TraceDuffing(double plot_tolerance) {
-  PlottedDuffing problem;
+  DuffingProblem problem;
+  DuffingAmplitude amplitude;
   ContinuationOptions options;
   options.lambda_start = 0.5;
   options.lambda_end = 1.6;
   options.max_step = 0.5;
   options.plot_tolerance = plot_tolerance;
   const double static_amplitude = DuffingProblem::kForce / (1.0 - 0.25);
-  return Continue(problem, Eigen::Vector2d(static_amplitude, 0.0), options);
+  return Continue(problem, Eigen::Vector2d(static_amplitude, 0.0), options, nullptr, &amplitude);
 }
 
 TEST_CASE("plot steps: every chord of the Duffing curve stays within plot_tolerance") {
@@ -112,8 +113,8 @@ TEST_CASE("plot steps: a quarter of the tolerance takes about twice the points")
   CHECK(ratio < 2.7);
 }
 
-TEST_CASE("plot steps: off by default, and refused without plot coordinates") {
-  DuffingProblem problem;  // no PlotScales
+TEST_CASE("plot steps: off by default, and refused without a plotted curve") {
+  DuffingProblem problem;
   ContinuationOptions options;
   options.lambda_start = 0.5;
   options.lambda_end = 1.6;

@@ -1,20 +1,20 @@
-#include "analysis/plotted_system.h"
+#include "analysis/plot_curve.h"
 
 #include <utility>
 
 namespace nfrc {
 
-PlottedSystem::PlottedSystem(HarmonicSystem& system, PlotSpec plot)
+MeasureCurve::MeasureCurve(HarmonicSystem& system, PlotSpec plot)
     : system_(system), measure_(plot.measure), output_dofs_(std::move(plot.dofs)) {
   if (measure_ == PlotMeasure::kMaxAbs) analyzer_.emplace(system, output_dofs_);
 }
 
-std::vector<PlotScale> PlottedSystem::PlotScales() const {
+std::vector<PlotScale> MeasureCurve::Scales() const {
   if (measure_ == PlotMeasure::kEnergy) return {PlotScale::kLog};
   return std::vector<PlotScale>(output_dofs_.size(), PlotScale::kLinear);
 }
 
-Eigen::VectorXd PlottedSystem::PlotCoordinates(const Eigen::VectorXd& y, double omega) {
+Eigen::VectorXd MeasureCurve::Coordinates(const Eigen::VectorXd& y, double omega) {
   if (measure_ == PlotMeasure::kEnergy) {
     return Eigen::VectorXd::Constant(1, PeriodEnergy(system_, y, omega));
   }
