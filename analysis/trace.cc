@@ -95,6 +95,12 @@ class TraceRecorder : public ContinuationObserver {
   std::optional<BranchPoint> previous_;
 };
 
+// Above this many unknowns the ladder is tried before the linear guess: a dense Newton
+// iteration there costs tens of LU(320), the rung below (a third of the harmonics) ~1/27 of
+// that, and from the linear guess a nonsmooth law takes tens of iterations (13 damped and
+// failed at N_φ = 640, 2 560 unknowns, before the ladder started at all).
+constexpr int kLadderFirstUnknowns = 1000;
+
 // The rung below H on the harmonic ladder: about H/3, odd if the set is odd-only.
 int CoarserMaxHarmonic(const HarmonicSet& set) {
   int coarse = std::max(1, set.max_harmonic() / 3);
@@ -131,21 +137,24 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   const double omega = options.lambda_start;
   const Eigen::VectorXd linear = system.InitialGuess(omega);
   if (stop != nullptr && stop->load()) return linear;
-  FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
-  if (solved.converged) return solved.y;
   const HarmonicSet& set = system.harmonic_set();
   const int coarse_h = CoarserMaxHarmonic(set);
-  if (coarse_h >= set.max_harmonic()) return linear;
+  bool ladder = coarse_h < set.max_harmonic();
   const int block = set.NumCoefficients();
   for (const auto& law : system.laws()) {
     // Only own unknowns that are coefficient signals can move between harmonic sets.
     if (!law->OwnUnknownsAreCoefficients() || law->NumOwnUnknowns(set) % block != 0) {
-      return linear;
+      ladder = false;
     }
   }
+  const bool ladder_first = ladder && system.NumUnknowns() > kLadderFirstUnknowns;
+  if (!ladder_first) {
+    const FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
+    if (solved.converged || !ladder) return solved.converged ? solved.y : linear;
+  }
   if (progress != nullptr) {
-    *progress << "nfrc: no start from the linear guess with H=" << set.max_harmonic()
-              << "; starting from H=" << coarse_h << "\n";
+    *progress << "nfrc: " << (ladder_first ? "large system" : "no start from the linear guess")
+              << " with H=" << set.max_harmonic() << "; starting from H=" << coarse_h << "\n";
   }
   // The same case with fewer harmonics (the default sampling of that set).
   Case coarse_case = the_case;
@@ -154,8 +163,22 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress, stop);
   if (stop != nullptr && stop->load()) return linear;
   const Eigen::VectorXd padded = ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
-  solved = SolveAtFixedLambda(system, padded, omega, padded, options);
-  return solved.converged ? solved.y : linear;
+  // The re-expressed coarse solution lies in semismooth Newton's local region, where a line
+  // search on ‖R‖ can stall at a kink (at N_φ = 640 it stopped at ‖R‖ = 2e-4 of its start
+  // after 13 iterations): undamped first, damped if that diverges.
+  ContinuationOptions undamped = options;
+  undamped.line_search = false;
+  FixedLambdaSolution solved = SolveAtFixedLambda(system, padded, omega, padded, undamped);
+  if (!solved.converged && options.line_search) {
+    solved = SolveAtFixedLambda(system, padded, omega, padded, options);
+  }
+  if (solved.converged) return solved.y;
+  // Padded failed both ways; at a large system the linear guess has not been tried yet.
+  if (ladder_first) {
+    solved = SolveAtFixedLambda(system, linear, omega, linear, options);
+    if (solved.converged) return solved.y;
+  }
+  return linear;
 }
 
 TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {

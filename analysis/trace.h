@@ -101,9 +101,11 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that
 // fails (nonsmooth laws with many harmonics), the start of the same case with about a third
-// of the harmonics (recursively) re-expressed in the full set and corrected. Returns the
-// linear guess if every rung fails (the engine then reports the failed start). A raised
-// `stop` skips the remaining rungs (the engine then stops after its first point).
+// of the harmonics (recursively) re-expressed in the full set and corrected (undamped, then
+// damped). Systems of more than 1 000 unknowns go down that ladder before trying the linear
+// guess. Returns the linear guess if every rung fails (the engine then reports the failed
+// start). A raised `stop` skips the remaining rungs (the engine then stops after its first
+// point).
 Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
                               const std::atomic<bool>* stop = nullptr);
 

@@ -23,16 +23,23 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
   return a;
 }
 
+bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
+  if (!(pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff())) return false;
+  *x = lu.solve(b);
+  return x->allFinite();
+}
+
 bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                     const EliminationBlocks* elimination) {
   if (elimination != nullptr && !elimination->empty() && SolveEliminating(a, b, *elimination, x)) {
     return true;
   }
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
-  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
-  if (pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff()) {
-    *x = lu.solve(b);
-    if (x->allFinite()) return true;
+  Eigen::MatrixXd solution;
+  if (SolveRegular(a, b, &solution)) {
+    *x = solution.col(0);
+    return true;
   }
   Eigen::FullPivLU<Eigen::MatrixXd> full(a);
   *x = full.solve(b);

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "continuation/augmented_system.h"
 #include "continuation/closure.h"
 #include "continuation/corrector.h"
 #include "continuation/evaluator.h"
@@ -79,10 +80,10 @@ double ResidualScale(Evaluator& evaluator, const Eigen::VectorXd& y_guess, doubl
 // balances their Jacobian columns against the others'.
 void SeedZeroGroups(const Linearization& linearization, Scaling* scaling) {
   if (!scaling->HasZeroGroup()) return;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(linearization.jacobian_y);
-  if (lu.isInvertible()) {
-    const Eigen::VectorXd dy_dlambda = lu.solve(linearization.jacobian_lambda);
-    scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda);
+  // Partial pivoting: a full-pivoting LU of thousands of unknowns took seconds (unblocked).
+  Eigen::MatrixXd dy_dlambda;
+  if (SolveRegular(linearization.jacobian_y, linearization.jacobian_lambda, &dy_dlambda)) {
+    scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda.col(0));
   }
   if (scaling->HasZeroGroup()) scaling->SeedZeroGroupsFromColumns(linearization.jacobian_y);
 }

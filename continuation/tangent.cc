@@ -5,19 +5,35 @@
 #include "continuation/augmented_system.h"
 
 namespace nfrc {
+namespace {
+
+// ‖J t‖ relative to ‖J‖_F‖t‖ for a null vector t: a backward-stable LU leaves ~1e-14; a
+// bordered system that is singular in R_y (a start at a fold) leaves O(1).
+constexpr double kNullResidual = 1e-8;
+
+}  // namespace
 
 bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
                     double residual_scale, double lambda_direction,
                     Eigen::VectorXd* tangent_scaled) {
   const int n = scaling.num_unknowns();
-  const Eigen::MatrixXd jacobian =
-      AugmentedMatrix(linearization, scaling, residual_scale, Eigen::VectorXd::Zero(n + 1))
-          .topRows(n);
+  const Eigen::MatrixXd bordered =
+      AugmentedMatrix(linearization, scaling, residual_scale, Eigen::VectorXd::Unit(n + 1, n));
+  // Away from a fold the border Δλ = 1 gives the tangent by one (eliminating) LU; the QR
+  // below costs several LUs and forming Q.
+  Eigen::VectorXd solution;
+  if (SolveAugmented(bordered, Eigen::VectorXd::Unit(n + 1, n), &solution,
+                     linearization.elimination.get())) {
+    const double scale = bordered.topRows(n).norm() * solution.norm();
+    if (scale > 0.0 && (bordered.topRows(n) * solution).norm() <= kNullResidual * scale) {
+      *tangent_scaled = solution.normalized() * (lambda_direction < 0.0 ? -1.0 : 1.0);
+      if (tangent_scaled->allFinite()) return true;
+    }
+  }
   // The last column of Q in Jᵀ = QR is orthogonal to the row space of J.
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(jacobian.transpose());
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(bordered.topRows(n).transpose());
   if (qr.rank() != n) return false;
-  const Eigen::MatrixXd q = qr.householderQ();
-  *tangent_scaled = q.col(n).normalized();
+  *tangent_scaled = (qr.householderQ() * Eigen::VectorXd::Unit(n + 1, n)).normalized();
   if ((*tangent_scaled)(n)*lambda_direction < 0.0) *tangent_scaled = -*tangent_scaled;
   return tangent_scaled->allFinite();
 }

@@ -10,9 +10,10 @@ namespace nfrc {
 // Tangents are unit vectors in scaled coordinates (Δy/s_y, Δλ/s_λ); Scaling::FromScaled
 // turns them into directions of the unscaled curve.
 
-// Tangent at the first point: the null vector of the scaled [R_y, R_λ] (from a
-// rank-revealing QR, so a start at a fold still works), with its λ component of the sign of
-// lambda_direction. False if the null space is not one-dimensional.
+// Tangent at the first point: the null vector of the scaled [R_y, R_λ], with its λ component
+// of the sign of lambda_direction. From the border Δλ = 1 by one LU, checked to be a null
+// vector; else (a start at a fold) from a rank-revealing QR. False if the null space is not
+// one-dimensional.
 bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
                     double residual_scale, double lambda_direction,
                     Eigen::VectorXd* tangent_scaled);

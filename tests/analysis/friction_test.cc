@@ -476,6 +476,38 @@ TEST_CASE(
   MESSAGE(Seconds(start) << " s");
 }
 
+// Above 1 000 unknowns StartingGuess goes down the harmonic ladder before it tries the linear
+// guess; the start it finds there is still the Den Hartog motion, to the O(1/H) bound above.
+constexpr int kLadderFirstHarmonics = 501;  // 251 odd harmonics: 1 004 unknowns with the force
+constexpr double kLadderOmega = 1.5;
+
+TEST_CASE("a start above the ladder-first size comes down the ladder and matches Den Hartog") {
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json source = CaseSource("one_dof_coulomb.json");
+  source["harmonics"] = {{"max", kLadderFirstHarmonics}, {"odd_only", true}};
+  source["continuation"]["omega_start"] = kLadderOmega;
+  source["continuation"]["omega_end"] = kLadderOmega + 0.1;
+  Case the_case = ParseEdited(source);
+  auto system = BuildSystem(the_case);
+  REQUIRE(system->NumUnknowns() > 1000);
+  std::ostringstream progress;
+  const Eigen::VectorXd y = StartingGuess(the_case, *system, &progress);
+  CHECK(progress.str().find("large system with H=501; starting from H=167") != std::string::npos);
+  Eigen::VectorXd residual;
+  REQUIRE(system->Evaluate(y, kLadderOmega, &residual, nullptr, nullptr));
+  REQUIRE(residual.norm() < 1e-8 * kOneDofF);
+  const DenHartog exact = SolveDenHartog(kLadderOmega, kOneDofC, kOneDofK, kOneDofF, kOneDofLimit);
+  REQUIRE(exact.converged);
+  const double hbm = MaxAbs(system->harmonic_set(), system->DofCoefficients(y, kLadderOmega, 0));
+  const double error = std::abs(hbm - exact.amplitude) / exact.amplitude;
+  REQUIRE(kDenHartogPoints[2].omega == kLadderOmega);
+  const double bound = kDenHartogPoints[2].error_constant / kLadderFirstHarmonics;
+  MESSAGE("ω = " << kLadderOmega << ", H = " << kLadderFirstHarmonics << ": relative error "
+                 << Num(error, 4) << " (bound " << Num(bound, 4) << "); " << Seconds(start)
+                 << " s");
+  CHECK(error < bound);
+}
+
 // ---------------------------------------------------------------------------------------
 // 5. Peak of the one-DOF FRC with 21 odd harmonics, against NLvib.
 

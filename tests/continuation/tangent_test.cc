@@ -10,6 +10,7 @@ namespace nfrc {
 namespace {
 
 using testing::CubicProblem;
+using testing::DuffingProblem;
 
 // Closed-form quantities computed in a handful of flops agree to rounding.
 constexpr double kRoundoff = 1e-13;
@@ -38,6 +39,24 @@ TEST_CASE("tangent: the first one points towards lambda_end, even from a fold") 
   REQUIRE(InitialTangent(fold, scaling, 1.0, 1.0, &at_fold));
   CHECK(std::abs(at_fold(0)) == Near(1.0));
   CHECK(at_fold(1) == Near(0.0));
+}
+
+TEST_CASE("tangent: the first one is the null vector of the scaled [R_y, R_lambda]") {
+  DuffingProblem problem(/*with_energy=*/true);
+  Evaluator evaluator(problem);
+  Scaling scaling({0, 0, 1}, 0.5, 1e-6);
+  scaling.Include(Eigen::Vector3d(1.0, 2.0, 5.0));
+  Linearization at;
+  // Any (y, ω): the tangent of [R_y, R_λ] is defined off the branch too.
+  REQUIRE(evaluator.Linearize(Eigen::Vector4d(0.7, -0.4, 0.3, 1.1), &at));
+  Eigen::VectorXd tangent;
+  REQUIRE(InitialTangent(at, scaling, 2.0, -1.0, &tangent));
+  // Closed form: Δy = −R_y⁻¹R_λ Δλ, scaled by the unknowns' scales; λ decreasing.
+  const Eigen::Vector3d dy = -at.jacobian_y.lu().solve(at.jacobian_lambda);
+  Eigen::Vector4d expected;
+  expected << dy.cwiseQuotient(scaling.scales().head(3)), 1.0 / scaling.scales()(3);
+  expected = -expected.normalized();
+  for (int i = 0; i < 4; ++i) CHECK(tangent(i) == Near(expected(i)));
 }
 
 TEST_CASE("tangent: the bordered tangent keeps the orientation of the previous one") {
