@@ -1,5 +1,6 @@
 // The nfrc command line program: `nfrc run CASE.json --out DIR`, `nfrc refine ...`,
 // `nfrc validate ...` and `nfrc plot DIR`: readers → analysis → writers, and the exit codes.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -8,9 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "analysis/case_parameter.h"
+#include "analysis/fold_curve.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
 #include "tools/command_line.h"
+#include "tools/fold_curve_writer.h"
 #include "tools/output_files.h"
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
@@ -39,6 +43,10 @@ constexpr const char* kUsage =
     "              [--no-plot]\n"
     "                                 integrate the model in time to steady state at each W\n"
     "                                 and compare with the HBM branch (DIR/validation.json)\n"
+    "  nfrc fold-curve CASE.json --parameter PATH --to VALUE --out DIR [--max-step S]\n"
+    "                                 follow each fold of the branch in (PATH, omega), e.g.\n"
+    "                                 PATH model.forcing[0].cos or nonlinearities[0].gap\n"
+    "                                 (DIR/fold_curve.json)\n"
     "  nfrc plot DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output BASE]\n"
     "              [--labels A,B] [--xlim MIN,MAX] [--title TEXT]\n"
     "                                 draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
@@ -116,6 +124,49 @@ int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   std::cerr << "nfrc: " << done.size() << " of " << options.epsilons.size()
             << " refinement steps, wrote " << io.out_dir << "/refinement.json\n";
   return complete ? kExitOk : kExitRunIncomplete;
+}
+
+int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
+  using nfrc::NumberDomain;
+  using nfrc::OptionSpec;
+  const nfrc::CommandLine line(
+      "fold-curve", args,
+      {OptionSpec::Value("--out"), OptionSpec::Value("--parameter"), OptionSpec::Value("--to"),
+       OptionSpec::Value("--max-step"), OptionSpec::Value("--kind")});
+  const CaseAndOut io = RequireCaseAndOut(line);
+  const std::optional<std::string> path = line.Value("--parameter");
+  const std::optional<double> to = line.Number("--to");
+  if (!path || !to) throw line.Error("needs --parameter PATH and --to VALUE");
+  // Neimark-Sacker and peak curves are not built yet: the choice says what is.
+  line.Choice("--kind", {"fold"});
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
+  const nfrc::Case& the_case = file.the_case;
+  const nfrc::CaseParameter parameter(*path, the_case);
+  nfrc::FoldCurveOptions options;
+  options.to = *to;
+  if (const auto max_step = line.Number("--max-step", NumberDomain::kPositive)) {
+    options.max_step = *max_step;
+    options.initial_step = std::min(options.initial_step, *max_step);
+  }
+  const double from = parameter.Get(the_case);
+  options.Validate(from);
+  options.progress = &std::cerr;
+  options.stop = &stop.flag();
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  nfrc::FoldCurveWriter writer(io.out_dir, the_case, parameter.path(), from, *to, file.source);
+  options.observer = &writer;
+  const nfrc::FoldCurveResult result = nfrc::TraceFoldCurves(the_case, parameter, options);
+  writer.Finish(result);
+  bool complete = !result.curves.empty();
+  for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
+  for (const nfrc::FoldCurve& curve : result.curves) {
+    std::cerr << "nfrc: fold " << curve.start_fold << ": " << nfrc::ToString(curve.summary.reason)
+              << ", " << curve.points.size() << " points, " << curve.turns.size()
+              << " turns: " << curve.summary.message << "\n";
+    complete = complete && curve.summary.success();
+  }
+  std::cerr << "nfrc: wrote " << io.out_dir << "/fold_curve.json\n";
+  return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
 // Runs tools/<script> with the arguments under the system Python; its exit status.
@@ -202,7 +253,7 @@ int Validate(const std::vector<std::string>& args, const nfrc::StopSignal& stop)
 
 int Dispatch(const std::string& command, const std::vector<std::string>& args) {
   if (command == "plot") return Plot(args);
-  if (command != "run" && command != "refine" && command != "validate") {
+  if (command != "run" && command != "refine" && command != "validate" && command != "fold-curve") {
     std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
     return kExitUsage;
   }
@@ -211,6 +262,7 @@ int Dispatch(const std::string& command, const std::vector<std::string>& args) {
   const nfrc::StopSignal stop;
   if (command == "run") return Run(args, stop);
   if (command == "refine") return Refine(args, stop);
+  if (command == "fold-curve") return FoldCurve(args, stop);
   return Validate(args, stop);
 }
 

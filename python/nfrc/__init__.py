@@ -21,7 +21,8 @@ from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, Dlf
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
-           "PolynomialSpring", "Solution", "Summary", "load_case", "solve_at", "switch_branch",
+           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "solve_at",
+           "switch_branch",
            "trace",
            "__version__"]
 
@@ -248,6 +249,16 @@ def switch_branch(case, bifurcation, progress=False):
     if branch.interrupted:
         raise Interrupted(branch)
     return branch
+
+
+def fold_curve(case, parameter, to, max_step=0.1, progress=False):
+    """Follows each fold of the case's branch in (parameter, omega) towards `to`; `parameter`
+    is a case-file path such as "model.forcing[0].cos" or "nonlinearities[0].normal_load".
+    Returns a dict: "parameter", "from", "to", "branch_folds", "notes" and "curves", each with
+    "start_fold", "start_omega", "termination", "message", the lists "parameter", "omega",
+    "energy", "max_abs" (per point a dict by output name) in order along the curve, and "turns"
+    (where the curve turns back in the parameter; "cusp" when omega turns too)."""
+    return _nfrc._fold_curve(case, str(parameter), float(to), float(max_step), bool(progress))
 
 
 def solve_at(case, omega, progress=False):

@@ -29,6 +29,7 @@ void BindTrace(py::module_& m);
 void BindSolveAt(py::module_& m);
 void BindValidate(py::module_& m);
 void BindStability(py::module_& m);  // Floquet, Bifurcation
+void BindFoldCurve(py::module_& m);
 
 // A Case as Python holds it. Every setter validates the whole case and restores the old value
 // on error, unless changes are batched by `with case.edit():` (then validated once at the end,

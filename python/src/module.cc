@@ -18,4 +18,5 @@ PYBIND11_MODULE(_nfrc, m) {
   nfrc::python::BindTrace(m);
   nfrc::python::BindSolveAt(m);
   nfrc::python::BindValidate(m);
+  nfrc::python::BindFoldCurve(m);
 }

@@ -283,6 +283,18 @@ command("refine_steps_1e20", ["refine", rod, "--out", out, "--omega", "6e4", "--
 command("refine_factor_nan", ["refine", rod, "--out", out, "--omega", "6e4", "--epsilon0", "1e9",
                               "--factor", "nan"], EXIT_USAGE, "--factor")
 command("refine_omega_missing", ["refine", rod, "--out", out], EXIT_USAGE, "--omega")
+command("fold_curve_no_parameter", ["fold-curve", duffing, "--out", out, "--to", "0.1"],
+        EXIT_USAGE, "--parameter")
+command("fold_curve_bad_path", ["fold-curve", duffing, "--out", out, "--parameter",
+                                "nonlinearities[0].mu", "--to", "0.1"], EXIT_INPUT,
+        "nonlinearities[0].mu")
+command("fold_curve_to_nan", ["fold-curve", duffing, "--out", out, "--parameter",
+                              "model.forcing[0].cos", "--to", "nan"], EXIT_USAGE, "--to")
+command("fold_curve_to_from", ["fold-curve", duffing, "--out", out, "--parameter",
+                               "model.forcing[0].cos", "--to", "0.18"], EXIT_INPUT, "to")
+command("fold_curve_kind_ns", ["fold-curve", duffing, "--out", out, "--parameter",
+                               "model.forcing[0].cos", "--to", "0.1", "--kind", "neimark_sacker"],
+        EXIT_USAGE, "--kind")
 command("plot_measure_volume", ["plot", out, "--measure", "volume"], EXIT_USAGE, "--measure")
 
 

@@ -34,6 +34,15 @@ for f in branch.json branch.csv; do
   [ -s "$work/duffing/$f" ] || { echo "FAIL duffing run: $f missing"; failures=$((failures + 1)); }
 done
 grep -q "omega=" "$work/err" || { echo "FAIL progress lines missing on stderr"; failures=$((failures + 1)); }
+expect "duffing fold curve" 0 "wrote $work/fc/fold_curve.json" -- "$nfrc" fold-curve \
+  "$src/cases/duffing.json" --parameter "model.forcing[0].cos" --to 0.03 --out "$work/fc"
+/usr/bin/python3 - "$work/fc/fold_curve.json" <<'PY' || { echo "FAIL fold_curve.json"; failures=$((failures + 1)); }
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["parameter"] == "model.forcing[0].cos" and d["from"] == 0.18 and d["to"] == 0.03
+assert len(d["cusps"]) == 1 and len(d["points"]) > 10, d["cusps"]
+assert all(set(p) >= {"parameter", "omega", "energy", "max_abs_0"} for p in d["points"])
+PY
 
 # Contact: the issue's rigid rod case runs as written; refine validates its input.
 expect "rigid rod run" 0 "reached_lambda_bound" -- \

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <string>
+
+#include "analysis/case.h"
+
+namespace nfrc {
+
+// A numeric field of a typed Case named by its case-file path, so that studies can vary it:
+// "model.forcing[0].cos", "nonlinearities[1].normal_load", "nonlinearities[0].gap". The
+// fields of a law are the numeric ones of its case-file entry; of a forcing term, cos and sin.
+// Copyable; it holds the path only, and every Get/Set checks the case it is given.
+class CaseParameter {
+ public:
+  // Throws InputError naming "parameter" and the path if the path does not name a numeric
+  // field of `the_case` (an index out of range, a field the law does not have).
+  CaseParameter(std::string path, const Case& the_case);
+
+  const std::string& path() const { return path_; }
+
+  double Get(const Case& the_case) const;
+  // Sets the field; the case is not validated here (Case::Validate names the field).
+  void Set(Case* the_case, double value) const;
+  // A copy of `the_case` with the field at `value`, validated.
+  Case With(const Case& the_case, double value) const;
+
+  // The residual's response to a unit change of the field is linear in it (forcing
+  // amplitudes): ∂R/∂p then needs no step size.
+  bool IsLinear() const { return kind_ == Kind::kForcingCos || kind_ == Kind::kForcingSin; }
+
+ private:
+  enum class Kind { kForcingCos, kForcingSin, kLaw };
+  const double* Field(const Case& the_case) const;  // null if the case has no such field
+
+  std::string path_;
+  Kind kind_ = Kind::kLaw;
+  int index_ = 0;      // forcing term or law
+  std::string field_;  // the law's field name
+};
+
+}  // namespace nfrc

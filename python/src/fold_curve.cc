@@ -1,0 +1,67 @@
+// nfrc.fold_curve: the folds of a case's branch followed in a second parameter.
+#include "analysis/fold_curve.h"
+
+#include <algorithm>
+#include <iostream>
+
+#include "analysis/case_parameter.h"
+#include "bindings.h"
+
+namespace nfrc::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+py::dict CurveDict(const FoldCurve& curve, const std::vector<std::string>& output_names) {
+  py::list parameter, omega, energy, max_abs, turns;
+  for (const FoldCurvePoint& point : curve.points) {
+    parameter.append(point.parameter);
+    omega.append(point.omega);
+    energy.append(point.energy);
+    py::dict per_output;
+    for (size_t i = 0; i < point.max_abs.size() && i < output_names.size(); ++i) {
+      per_output[py::str(output_names[i])] = point.max_abs[i];
+    }
+    max_abs.append(per_output);
+  }
+  for (const FoldCurveTurn& turn : curve.turns) {
+    turns.append(py::dict("parameter"_a = turn.parameter, "omega"_a = turn.omega,
+                          "after_point"_a = turn.after_point, "cusp"_a = turn.cusp));
+  }
+  return py::dict("start_fold"_a = curve.start_fold, "start_omega"_a = curve.start_omega,
+                  "termination"_a = ToString(curve.summary.reason),
+                  "message"_a = curve.summary.message, "parameter"_a = parameter, "omega"_a = omega,
+                  "energy"_a = energy, "max_abs"_a = max_abs, "turns"_a = turns);
+}
+
+}  // namespace
+
+void BindFoldCurve(py::module_& m) {
+  m.def(
+      "_fold_curve",
+      [](const PyCase& c, const std::string& path, double to, double max_step, bool progress) {
+        const Case the_case = c.value;
+        const CaseParameter parameter(path, the_case);
+        FoldCurveOptions options;
+        options.to = to;
+        options.max_step = max_step;
+        options.initial_step = std::min(options.initial_step, max_step);
+        options.progress = progress ? &std::cerr : nullptr;
+        FoldCurveResult result;
+        {
+          py::gil_scoped_release release;
+          result = TraceFoldCurves(the_case, parameter, options);
+        }
+        py::list curves;
+        for (const FoldCurve& curve : result.curves) {
+          curves.append(CurveDict(curve, the_case.output_names));
+        }
+        return py::dict("parameter"_a = result.parameter, "from"_a = result.from,
+                        "to"_a = result.to, "branch_folds"_a = result.branch_folds,
+                        "notes"_a = result.notes, "curves"_a = curves);
+      },
+      "case"_a, "parameter"_a, "to"_a, "max_step"_a = 0.1, "progress"_a = false);
+}
+
+}  // namespace nfrc::python

@@ -1,0 +1,41 @@
+"""nfrc.fold_curve on the one-harmonic Duffing oscillator, against its closed-form cusp."""
+import math
+import os
+
+import pytest
+
+import nfrc
+
+CASES = os.path.join(os.path.dirname(__file__), "..", "..", "cases")
+K, C, K3 = 1.0, 0.05, 0.1
+# The issue asks for fold curves to 1e-6 in omega against the closed form.
+OMEGA_TOLERANCE = 1e-6
+
+
+def closed_form_cusp():
+    """Where the two folds of x'' + c x' + k x + k3 x^3 = P cos(wt) meet (one harmonic): the
+    double root of 3b^2 a^2 + 4 b d a + d^2 + c^2 w^2 = 0 (b = 3k3/4, d = k - w^2, a = A^2)."""
+    omega = 0.5 * (math.sqrt(3.0) * C + math.sqrt(3.0 * C * C + 4.0 * K))
+    d, beta = K - omega * omega, 0.75 * K3
+    a = -2.0 * d / (3.0 * beta)
+    return omega, math.sqrt(((d + beta * a) ** 2 + (C * omega) ** 2) * a)
+
+
+def test_duffing_fold_curve_passes_the_closed_form_cusp():
+    case = nfrc.load_case(os.path.join(CASES, "duffing_h1.json"))
+    result = nfrc.fold_curve(case, "model.forcing[0].cos", 0.03)
+    assert result["branch_folds"] == 2 and result["from"] == 0.18
+    (curve,) = result["curves"]
+    assert curve["termination"] == "reached_lambda_bound"
+    (turn,) = curve["turns"]
+    omega, force = closed_form_cusp()
+    assert turn["cusp"]
+    assert abs(turn["omega"] - omega) < OMEGA_TOLERANCE
+    assert abs(turn["parameter"] - force) < OMEGA_TOLERANCE * force
+    assert len(curve["omega"]) == len(curve["parameter"]) == len(curve["max_abs"])
+
+
+def test_fold_curve_refuses_a_field_the_case_does_not_have():
+    case = nfrc.load_case(os.path.join(CASES, "duffing_h1.json"))
+    with pytest.raises(nfrc.InputError, match=r"nonlinearities\[0\]\.mu"):
+        nfrc.fold_curve(case, "nonlinearities[0].mu", 0.1)
