@@ -19,6 +19,7 @@
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
 #include "tools/stop_signal.h"
+#include "tools/sweep.h"
 #include "tools/validate.h"
 #include "tools/version.h"
 
@@ -47,6 +48,10 @@ constexpr const char* kUsage =
     "                                 follow each fold of the branch in (PATH, omega), e.g.\n"
     "                                 PATH model.forcing[0].cos or nonlinearities[0].gap\n"
     "                                 (DIR/fold_curve.json)\n"
+    "  nfrc sweep CASE.json --parameter PATH (--values V1,V2,... | --range FROM:TO:COUNT)\n"
+    "              --out DIR [--jobs N]\n"
+    "                                 one branch per value in DIR/<k>/, DIR/sweep.json\n"
+    "                                 rewritten as runs finish; resumes a sweep in DIR\n"
     "  nfrc plot DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output BASE]\n"
     "              [--labels A,B] [--xlim MIN,MAX] [--title TEXT]\n"
     "                                 draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
@@ -169,6 +174,65 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
+// FROM:TO:COUNT as COUNT evenly spaced values, both ends included.
+std::vector<double> RangeValues(const nfrc::CommandLine& line, const std::string& text) {
+  const size_t first = text.find(':'), second = text.find(':', first + 1);
+  if (first == std::string::npos || second == std::string::npos) {
+    throw line.Error("--range: expected FROM:TO:COUNT");
+  }
+  const nfrc::CommandLine parts(
+      "sweep",
+      {"--from", text.substr(0, first), "--to", text.substr(first + 1, second - first - 1),
+       "--count", text.substr(second + 1)},
+      {nfrc::OptionSpec::Value("--from"), nfrc::OptionSpec::Value("--to"),
+       nfrc::OptionSpec::Value("--count")});
+  try {
+    const double from = *parts.Number("--from"), to = *parts.Number("--to");
+    // More than 10⁵ branches is not a sweep this machine class finishes.
+    const int count = *parts.Int("--count", 2, 100000);
+    std::vector<double> values;
+    for (int k = 0; k < count; ++k) values.push_back(from + (to - from) * k / (count - 1));
+    return values;
+  } catch (const nfrc::UsageError&) {
+    throw line.Error("--range: expected FROM:TO:COUNT (finite numbers, COUNT 2 to 100000)");
+  }
+}
+
+int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
+  using nfrc::OptionSpec;
+  const nfrc::CommandLine line(
+      "sweep", args,
+      {OptionSpec::Value("--out"), OptionSpec::Value("--parameter"), OptionSpec::Value("--values"),
+       OptionSpec::Value("--range"), OptionSpec::Value("--jobs")});
+  const CaseAndOut io = RequireCaseAndOut(line);
+  const std::optional<std::string> path = line.Value("--parameter");
+  if (!path) throw line.Error("needs --parameter PATH");
+  std::vector<double> values = line.NumberList("--values");
+  const std::optional<std::string> range = line.Value("--range");
+  if (values.empty() == !range) throw line.Error("needs one of --values V1,V2,... or --range");
+  if (range) values = RangeValues(line, *range);
+  // Two cores here; a few hundred threads is more than any machine this runs on has.
+  const int jobs = line.Int("--jobs", 1, 256).value_or(1);
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
+  const nfrc::CaseParameter parameter(*path, file.the_case);
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  nfrc::SweepOptions options;
+  options.jobs = jobs;
+  options.progress = &std::cerr;
+  options.stop = &stop.flag();
+  const std::vector<nfrc::SweepRun> runs =
+      nfrc::RunSweep(file, parameter, values, io.out_dir, options);
+  int complete = 0, resumed = 0;
+  for (const nfrc::SweepRun& run : runs) {
+    complete += run.status == "complete";
+    resumed += run.resumed;
+  }
+  std::cerr << "nfrc: " << complete << " of " << runs.size() << " runs complete (" << resumed
+            << " kept from an earlier run), wrote " << io.out_dir << "/sweep.json\n";
+  return complete == static_cast<int>(runs.size()) && !stop.requested() ? kExitOk
+                                                                        : kExitRunIncomplete;
+}
+
 // Runs tools/<script> with the arguments under the system Python; its exit status.
 int RunPythonScript(const std::string& script, const std::vector<std::string>& args) {
   const std::string path = std::string(NFRC_TOOLS_DIR) + "/" + script;
@@ -253,7 +317,8 @@ int Validate(const std::vector<std::string>& args, const nfrc::StopSignal& stop)
 
 int Dispatch(const std::string& command, const std::vector<std::string>& args) {
   if (command == "plot") return Plot(args);
-  if (command != "run" && command != "refine" && command != "validate" && command != "fold-curve") {
+  if (command != "run" && command != "refine" && command != "validate" && command != "fold-curve" &&
+      command != "sweep") {
     std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
     return kExitUsage;
   }
@@ -263,6 +328,7 @@ int Dispatch(const std::string& command, const std::vector<std::string>& args) {
   if (command == "run") return Run(args, stop);
   if (command == "refine") return Refine(args, stop);
   if (command == "fold-curve") return FoldCurve(args, stop);
+  if (command == "sweep") return Sweep(args, stop);
   return Validate(args, stop);
 }
 

@@ -26,7 +26,7 @@ void PrintReduction(const ReductionReport& report, std::ostream& out) {
 }
 
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
-               const std::atomic<bool>* stop, const nlohmann::json& source) {
+               const std::atomic<bool>* stop, const nlohmann::json& source, TraceResult* trace) {
   the_case.Validate();
   if (progress != nullptr && the_case.reduction) PrintReduction(*the_case.reduction, *progress);
   BranchWriter writer(out_dir, the_case, source);
@@ -57,6 +57,10 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
       *progress << "nfrc: " << (doubling ? "period-2 branch " : "branch-point branch ") << number
                 << ": " << switched.message << ", wrote " << dir << "/branch.json\n";
     }
+  }
+  if (trace != nullptr) {
+    *trace = std::move(result);
+    return trace->branch;
   }
   return std::move(result.branch);
 }

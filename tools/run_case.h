@@ -6,6 +6,7 @@
 #include <string>
 
 #include "analysis/case.h"
+#include "analysis/trace.h"
 #include "continuation/branch.h"
 
 namespace nfrc {
@@ -17,7 +18,9 @@ namespace nfrc {
 // Prints a Craig–Bampton report (sizes, time, eigenfrequency check) as "nfrc: " lines.
 void PrintReduction(const ReductionReport& report, std::ostream& out);
 
+// With `trace`, the main branch's whole TraceResult (bifurcations, measures) is kept there.
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
-               const std::atomic<bool>* stop = nullptr, const nlohmann::json& source = nullptr);
+               const std::atomic<bool>* stop = nullptr, const nlohmann::json& source = nullptr,
+               TraceResult* trace = nullptr);
 
 }  // namespace nfrc

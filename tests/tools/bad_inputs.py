@@ -295,6 +295,17 @@ command("fold_curve_to_from", ["fold-curve", duffing, "--out", out, "--parameter
 command("fold_curve_kind_ns", ["fold-curve", duffing, "--out", out, "--parameter",
                                "model.forcing[0].cos", "--to", "0.1", "--kind", "neimark_sacker"],
         EXIT_USAGE, "--kind")
+command("sweep_no_values", ["sweep", duffing, "--out", out, "--parameter",
+                            "model.forcing[0].cos"], EXIT_USAGE, "--values")
+command("sweep_range_short", ["sweep", duffing, "--out", out, "--parameter",
+                              "model.forcing[0].cos", "--range", "0.1:0.2"], EXIT_USAGE, "--range")
+command("sweep_range_count_1", ["sweep", duffing, "--out", out, "--parameter",
+                                "model.forcing[0].cos", "--range", "0.1:0.2:1"], EXIT_USAGE,
+        "--range")
+command("sweep_jobs_0", ["sweep", duffing, "--out", out, "--parameter", "model.forcing[0].cos",
+                         "--values", "0.1", "--jobs", "0"], EXIT_USAGE, "--jobs")
+command("sweep_bad_path", ["sweep", duffing, "--out", out, "--parameter", "model.mass",
+                           "--values", "0.1"], EXIT_INPUT, "model.mass")
 command("plot_measure_volume", ["plot", out, "--measure", "volume"], EXIT_USAGE, "--measure")
 
 

@@ -138,6 +138,15 @@ stopped "run stopped by SIGHUP" HUP 2 "$work/hup/branch.json" -- \
 stopped "refine stopped by SIGTERM" TERM 0.5 "$work/int/refinement.json" -- \
   "$nfrc" refine "$src/cases/rod/rigid_nh40.json" --omega 63953.9 --epsilon0 1e9 --steps 40 \
   --out "$work/int"
+stopped "sweep stopped by SIGTERM" TERM 1 "$work/sweep/sweep.json" -- \
+  "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].normal_load" \
+  --values 10,12 --out "$work/sweep"
+expect "sweep resumed" 0 "2 of 2 runs complete" -- \
+  "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].normal_load" \
+  --values 10,12 --out "$work/sweep" --jobs 2
+expect "sweep of another parameter refused" 1 "--out" -- \
+  "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].mu" \
+  --values 0.5 --out "$work/sweep"
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures CLI check(s) failed"

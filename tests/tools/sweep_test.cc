@@ -1,0 +1,107 @@
+#include "tools/sweep.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/errors.h"
+
+namespace nfrc {
+namespace {
+
+constexpr double kC = 0.05, kK3 = 0.1;
+// The largest max |x| of a branch is taken on its points, so it lies below the curve's true
+// maximum by the curve's drop over half a step (measured 1.7e-4 to 2.6e-4 relative here); it
+// can never lie above it (beyond rounding). 1e-3 is the bar below.
+constexpr double kPeakTolerance = 1e-3;
+constexpr double kRounding = 1e-12;
+
+std::string OutDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("nfrc_sweep_test_" + name);
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+CaseFile CaseFileNamed(const std::string& name) {
+  return ReadCaseFile(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
+}
+
+// One-harmonic Duffing: the amplitude equation [(1 + βA² − ω²)² + (cω)²]A² = P², β = ¾k₃.
+// For a given A the bracket is smallest at ω² = 1 + βA² − c²/2, where it is
+// c²(1 + βA²) − c⁴/4: the largest A on the curve solves A² = P²/(c²(1 + βA²) − c⁴/4).
+double ClosedFormPeak(double force) {
+  const double beta = 0.75 * kK3;
+  double amplitude = force / kC;
+  for (int i = 0; i < 200; ++i) {
+    amplitude = force / std::sqrt(kC * kC * (1.0 + beta * amplitude * amplitude) -
+                                  0.25 * kC * kC * kC * kC);
+  }
+  return amplitude;
+}
+
+TEST_CASE("sweep: one branch per forcing level, peaks against the closed form, threads = serial") {
+  const CaseFile file = CaseFileNamed("duffing_h1.json");
+  const CaseParameter forcing("model.forcing[0].cos", file.the_case);
+  const std::vector<double> values = {0.05, 0.1, 0.18};
+  SweepOptions options;
+  options.jobs = 2;
+  const std::string dir = OutDir("duffing");
+  const std::vector<SweepRun> runs = RunSweep(file, forcing, values, dir, options);
+  options.jobs = 1;
+  const std::vector<SweepRun> serial = RunSweep(file, forcing, values, OutDir("serial"), options);
+  REQUIRE(runs.size() == 3);
+  for (size_t k = 0; k < runs.size(); ++k) {
+    CAPTURE(k);
+    CHECK(runs[k].status == "complete");
+    CHECK(std::filesystem::exists(dir + "/" + runs[k].dir + "/branch.json"));
+    const double exact = ClosedFormPeak(values[k]);
+    const double peak = runs[k].peaks.at("max_abs_0");
+    MESSAGE("P = " << values[k] << ": peak " << peak << ", closed form " << exact);
+    CHECK(peak < exact * (1.0 + kRounding));
+    CHECK(peak > exact * (1.0 - kPeakTolerance));
+    CHECK(runs[k].folds == serial[k].folds);
+    CHECK(runs[k].peaks == serial[k].peaks);
+  }
+  CHECK(runs[0].folds == 0);  // below the cusp (P ≈ 0.054): no fold
+  CHECK(runs[2].folds == 2);
+  std::ifstream in(dir + "/sweep.json");
+  const nlohmann::json record = nlohmann::json::parse(in);
+  CHECK(record["parameter"] == "model.forcing[0].cos");
+  CHECK(record["runs"].size() == 3);
+}
+
+TEST_CASE("sweep: a failing run is a status, and an interrupted sweep resumes") {
+  const CaseFile file = CaseFileNamed("friction/one_dof_coulomb.json");
+  const CaseParameter mu("nonlinearities[0].mu", file.the_case);
+  // μ = −1 is refused by the case's validation: that run fails, the others go on.
+  const std::vector<double> values = {0.5, -1.0, 0.4};
+  const std::string dir = OutDir("resume");
+  std::vector<SweepRun> runs = RunSweep(file, mu, values, dir, {});
+  CHECK(runs[0].status == "complete");
+  CHECK(runs[1].status == "failed");
+  CHECK(runs[1].message.find("nonlinearities[0].mu") != std::string::npos);
+  CHECK(runs[2].status == "complete");
+  // Again in the same directory: the complete runs are kept, the failed one is traced again.
+  runs = RunSweep(file, mu, values, dir, {});
+  CHECK(runs[0].resumed);
+  CHECK_FALSE(runs[1].resumed);
+  CHECK(runs[2].resumed);
+  // Another sweep in that directory is refused, naming --out; so are values that are not
+  // finite, naming --values.
+  CHECK_THROWS_WITH_AS(RunSweep(file, mu, {0.3}, dir, {}), doctest::Contains("--out"), InputError);
+  CHECK_THROWS_WITH_AS(RunSweep(file, mu, {std::nan("")}, OutDir("nan"), {}),
+                       doctest::Contains("--values"), InputError);
+}
+
+TEST_CASE("sweep: the case file records the swept value at the parameter's path") {
+  const CaseFile file = CaseFileNamed("duffing_h1.json");
+  const nlohmann::json edited = WithField(file.source, "nonlinearities[0].coefficient", 0.25);
+  CHECK(edited["nonlinearities"][0]["coefficient"] == 0.25);
+  CHECK(WithField(file.source, "model.forcing[0].cos", 0.5)["model"]["forcing"][0]["cos"] == 0.5);
+  CHECK(edited["model"] == file.source["model"]);
+}
+
+}  // namespace
+}  // namespace nfrc
