@@ -33,7 +33,10 @@
 //      check, then the NFRC through the first bending resonance: points, time per
 //      continuation step, natural-parameter fallbacks, and the peak resident memory;
 //  11. the friction force's step weight (1, 0.3, 0.1, 0) on the Fig. 7 curve, N = 10:
-//      points, Newton, time and accuracy of ln E against a tenth of the step.
+//      points, Newton, time and accuracy of ln E against a tenth of the step;
+//  12. parameter studies (tools/bench_studies.h): Duffing's fold curve in the forcing through
+//      the cusp, and a 32-branch sweep of the Fig. 7 oscillator in the normal load with one
+//      and two threads (time per branch, speed-up, efficiency, equal results).
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -58,6 +61,7 @@
 #include "tools/bench_acceptance.h"
 #include "tools/bench_blade.h"
 #include "tools/bench_common.h"
+#include "tools/bench_studies.h"
 #include "tools/case_file.h"
 #include "validation/make_integrator.h"
 
@@ -549,5 +553,6 @@ int main(int argc, char** argv) {
   if (run(9)) nfrc::bench::BenchAcceptance(LuUnitSeconds, accuracy);
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
+  if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);
   return 0;
 }
