@@ -5,7 +5,7 @@ packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libsundials-dev
           nlohmann-json3-dev doctest-dev python3 python3-matplotlib
           python3-dev python3-pybind11 python3-pytest python3-numpy
           clang libfuzzer-14-dev libclang-rt-14-dev libspectra-dev libfftw3-dev
-          libsiconos-numerics-dev libopenblas-dev liblapacke-dev)
+          libsiconos-numerics-dev libopenblas-dev liblapacke-dev libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -20,6 +20,7 @@
 #include "tools/run_case.h"
 #include "tools/stop_signal.h"
 #include "tools/sweep.h"
+#include "tools/sweep_ranks.h"
 #include "tools/validate.h"
 #include "tools/version.h"
 
@@ -174,6 +175,9 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
+int ReportSweep(const std::vector<nfrc::SweepRun>& runs, const std::string& out_dir,
+                const nfrc::StopSignal& stop);
+
 // FROM:TO:COUNT as COUNT evenly spaced values, both ends included.
 std::vector<double> RangeValues(const nfrc::CommandLine& line, const std::string& text) {
   const size_t first = text.find(':'), second = text.find(':', first + 1);
@@ -215,20 +219,37 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   const int jobs = line.Int("--jobs", 1, 256).value_or(1);
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::CaseParameter parameter(*path, file.the_case);
+  if (nfrc::LaunchedRanks() > 1) {
+    if (jobs != 1) {
+      throw line.Error(
+          "--jobs: under mpirun each rank traces one branch at a time (start more "
+          "ranks instead)");
+    }
+    const nfrc::RankSession session;
+    const std::vector<nfrc::SweepRun> runs = nfrc::RunSweepOnRanks(
+        session, file, parameter, values, io.out_dir, &std::cerr, &stop.flag());
+    if (session.rank() != 0) return kExitOk;  // rank 0 reports for all
+    return ReportSweep(runs, io.out_dir, stop);
+  }
   const nfrc::OutputDirectoryLock lock(io.out_dir);
   nfrc::SweepOptions options;
   options.jobs = jobs;
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  const std::vector<nfrc::SweepRun> runs =
-      nfrc::RunSweep(file, parameter, values, io.out_dir, options);
+  return ReportSweep(nfrc::RunSweep(file, parameter, values, io.out_dir, options), io.out_dir,
+                     stop);
+}
+
+// The sweep's last line and exit code: 0 when every run is complete.
+int ReportSweep(const std::vector<nfrc::SweepRun>& runs, const std::string& out_dir,
+                const nfrc::StopSignal& stop) {
   int complete = 0, resumed = 0;
   for (const nfrc::SweepRun& run : runs) {
     complete += run.status == "complete";
     resumed += run.resumed;
   }
   std::cerr << "nfrc: " << complete << " of " << runs.size() << " runs complete (" << resumed
-            << " kept from an earlier run), wrote " << io.out_dir << "/sweep.json\n";
+            << " kept from an earlier run), wrote " << out_dir << "/sweep.json\n";
   return complete == static_cast<int>(runs.size()) && !stop.requested() ? kExitOk
                                                                         : kExitRunIncomplete;
 }

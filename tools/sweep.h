@@ -4,6 +4,7 @@
 #include <iosfwd>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,12 +38,30 @@ struct SweepOptions {
 
 // `nfrc sweep`: one branch per value of the parameter, each traced and written as `nfrc run`
 // does into DIR/<k>/, and DIR/sweep.json (parameter, values, runs) rewritten atomically as
-// runs finish. A run that fails is a status, never the end of the sweep. If DIR/sweep.json
-// already holds this sweep (same parameter and values), its complete runs are kept and the
-// others traced again (resume); a different sweep there is an InputError naming --out.
+// runs finish (and each run in DIR/<k>/run.json). A run that fails is a status, never the end of
+// the sweep. If DIR/sweep.json already holds this sweep (same parameter and values), its complete
+// runs are kept and the others traced again (resume); a different sweep there is an InputError
+// naming --out.
 std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parameter,
                                const std::vector<double>& values, const std::string& out_dir,
                                const SweepOptions& options);
+
+// The pieces RunSweep is made of, for other ways of distributing runs (MPI ranks):
+// - PlanSweep: the runs of the sweep in `out_dir` (created): complete runs of an earlier
+//   DIR/sweep.json of the same sweep kept (`resumed`), the others pending; InputError naming
+//   --values or --out as RunSweep.
+// - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json.
+// - ReadRunRecord: that record, if the run has one.
+// - WriteSweepRecord: DIR/sweep.json for these runs; PrintRun: the progress line of a run.
+std::vector<SweepRun> PlanSweep(const CaseParameter& parameter, const std::vector<double>& values,
+                                const std::string& out_dir);
+SweepRun TraceSweepRun(const CaseFile& file, const CaseParameter& parameter, SweepRun run,
+                       const std::string& out_dir, const std::atomic<bool>* stop);
+std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
+                                      const std::vector<double>& values);
+void WriteSweepRecord(const std::string& out_dir, const CaseParameter& parameter,
+                      const std::vector<double>& values, const std::vector<SweepRun>& runs);
+void PrintRun(std::ostream* progress, const CaseParameter& parameter, const SweepRun& run);
 
 // The case-file JSON with the field at `path` (a CaseParameter path) set to `value`.
 nlohmann::json WithField(nlohmann::json source, const std::string& path, double value);

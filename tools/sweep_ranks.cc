@@ -1,0 +1,157 @@
+#include "tools/sweep_ranks.h"
+
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "core/errors.h"
+#include "tools/output_files.h"
+
+#ifdef NFRC_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace nfrc {
+
+int LaunchedRanks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    if (const char* value = std::getenv(name)) {
+      const int size = std::atoi(value);
+      if (size >= 1) return size;
+    }
+  }
+  return 1;
+}
+
+#ifndef NFRC_HAVE_MPI
+
+RankSession::RankSession() {
+  throw InputError(
+      "mpirun: this nfrc was built without MPI (install libopenmpi-dev and rebuild), or run the "
+      "sweep without mpirun (--jobs N uses the cores of one machine)");
+}
+RankSession::~RankSession() = default;
+
+std::vector<SweepRun> RunSweepOnRanks(const RankSession&, const CaseFile&, const CaseParameter&,
+                                      const std::vector<double>&, const std::string&, std::ostream*,
+                                      const std::atomic<bool>*) {
+  throw InputError("mpirun: this nfrc was built without MPI");
+}
+
+#else
+
+namespace {
+
+// Exit codes of a rank that aborts all (the CLI's: an I/O error, an internal error).
+constexpr int kAbortIo = 4;
+constexpr int kAbortInternal = 5;
+
+// Every rank learns rank 0's string.
+std::string Broadcast(const std::string& text, int rank) {
+  std::int64_t size = static_cast<std::int64_t>(text.size());
+  MPI_Bcast(&size, 1, MPI_INT64_T, 0, MPI_COMM_WORLD);
+  std::string out = rank == 0 ? text : std::string(static_cast<size_t>(size), '\0');
+  if (size > 0) MPI_Bcast(out.data(), static_cast<int>(size), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return out;
+}
+
+// Rank 0's view: every run's latest record (run.json of the runs traced in this sweep).
+void Refresh(const std::string& out_dir, const std::vector<double>& values,
+             std::vector<SweepRun>* runs) {
+  for (SweepRun& run : *runs) {
+    // Kept from an earlier sweep, or already final: nothing new can be on disk.
+    if (run.resumed || run.status == "complete" || run.status == "failed") continue;
+    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, values)) run = *record;
+  }
+}
+
+}  // namespace
+
+RankSession::RankSession() {
+  MPI_Init(nullptr, nullptr);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+RankSession::~RankSession() { MPI_Finalize(); }
+
+std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile& file,
+                                      const CaseParameter& parameter,
+                                      const std::vector<double>& values, const std::string& out_dir,
+                                      std::ostream* progress, const std::atomic<bool>* stop) {
+  const int rank = session.rank();
+  std::optional<OutputDirectoryLock> lock;
+  std::vector<SweepRun> runs;
+  std::string failure;  // rank 0's planning error, shared with every rank
+  if (rank == 0) {
+    try {
+      lock.emplace(out_dir);
+      runs = PlanSweep(parameter, values, out_dir);
+      WriteSweepRecord(out_dir, parameter, values, runs);
+    } catch (const std::exception& error) {
+      failure = error.what();
+      if (failure.empty()) failure = "planning the sweep failed";
+    }
+  }
+  failure = Broadcast(failure, rank);
+  if (!failure.empty()) throw InputError(failure);
+  // The pending runs, in rank 0's order, as a list of indices.
+  std::string pending;
+  if (rank == 0) {
+    for (const SweepRun& run : runs) {
+      if (!run.resumed) pending += std::to_string(run.index) + ",";
+    }
+  }
+  pending = Broadcast(pending, rank);
+  std::vector<int> todo;
+  for (size_t start = 0; start < pending.size();) {
+    const size_t comma = pending.find(',', start);
+    todo.push_back(std::stoi(pending.substr(start, comma - start)));
+    start = comma + 1;
+  }
+
+  std::int64_t counter = 0;
+  MPI_Win window;
+  MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter,
+                 MPI_INFO_NULL, MPI_COMM_WORLD, &window);
+  try {
+    for (;;) {
+      if (stop != nullptr && stop->load()) break;
+      const std::int64_t one = 1;
+      std::int64_t next = 0;
+      MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
+      MPI_Fetch_and_op(&one, &next, MPI_INT64_T, 0, 0, MPI_SUM, window);
+      MPI_Win_unlock(0, window);
+      if (next >= static_cast<std::int64_t>(todo.size())) break;
+      const int k = todo[static_cast<size_t>(next)];
+      SweepRun run;
+      run.index = k;
+      run.value = values[static_cast<size_t>(k)];
+      run.dir = std::to_string(k);
+      run = TraceSweepRun(file, parameter, run, out_dir, stop);
+      PrintRun(progress, parameter, run);
+      if (rank == 0) {
+        Refresh(out_dir, values, &runs);
+        WriteSweepRecord(out_dir, parameter, values, runs);
+      }
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "nfrc: rank " << rank << ": error: " << error.what() << "\n";
+    MPI_Abort(MPI_COMM_WORLD,
+              dynamic_cast<const OutputError*>(&error) != nullptr ? kAbortIo : kAbortInternal);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  MPI_Win_free(&window);
+  if (rank == 0) {
+    Refresh(out_dir, values, &runs);
+    WriteSweepRecord(out_dir, parameter, values, runs);
+  }
+  return runs;
+}
+
+#endif
+
+}  // namespace nfrc
