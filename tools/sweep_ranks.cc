@@ -72,6 +72,8 @@ void Refresh(const std::string& out_dir, const std::vector<double>& values,
 
 RankSession::RankSession() {
   MPI_Init(nullptr, nullptr);
+  // Errors come back as codes (a missing one-sided window is handled, not fatal).
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }
@@ -113,18 +115,38 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
     start = comma + 1;
   }
 
+  // The shared counter. Some transports offer no one-sided window (Open MPI's shared memory
+  // with its single-copy mechanism disabled, as some containers require): then the runs are
+  // dealt out round-robin instead, which every rank is told on stderr.
   std::int64_t counter = 0;
-  MPI_Win window;
-  MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter,
-                 MPI_INFO_NULL, MPI_COMM_WORLD, &window);
+  MPI_Win window = MPI_WIN_NULL;
+  int have_window =
+      MPI_Win_create(rank == 0 ? &counter : nullptr, rank == 0 ? sizeof counter : 0, sizeof counter,
+                     MPI_INFO_NULL, MPI_COMM_WORLD, &window) == MPI_SUCCESS;
+  int all_have_window = 0;
+  MPI_Allreduce(&have_window, &all_have_window, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (!all_have_window) {
+    if (have_window) MPI_Win_free(&window);
+    window = MPI_WIN_NULL;
+    if (rank == 0) {
+      std::cerr << "nfrc: no MPI one-sided window on this transport: branches dealt out "
+                   "round-robin (no load balancing)\n";
+    }
+  }
+  std::int64_t dealt = rank;  // round-robin: this rank's next position in todo
   try {
     for (;;) {
       if (stop != nullptr && stop->load()) break;
-      const std::int64_t one = 1;
       std::int64_t next = 0;
-      MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
-      MPI_Fetch_and_op(&one, &next, MPI_INT64_T, 0, 0, MPI_SUM, window);
-      MPI_Win_unlock(0, window);
+      if (window != MPI_WIN_NULL) {
+        const std::int64_t one = 1;
+        MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
+        MPI_Fetch_and_op(&one, &next, MPI_INT64_T, 0, 0, MPI_SUM, window);
+        MPI_Win_unlock(0, window);
+      } else {
+        next = dealt;
+        dealt += session.size();
+      }
       if (next >= static_cast<std::int64_t>(todo.size())) break;
       const int k = todo[static_cast<size_t>(next)];
       SweepRun run;
@@ -144,7 +166,7 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
               dynamic_cast<const OutputError*>(&error) != nullptr ? kAbortIo : kAbortInternal);
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  MPI_Win_free(&window);
+  if (window != MPI_WIN_NULL) MPI_Win_free(&window);
   if (rank == 0) {
     Refresh(out_dir, values, &runs);
     WriteSweepRecord(out_dir, parameter, values, runs);
