@@ -34,8 +34,9 @@ class FoldProblem : public ContinuationProblem {
 
   // Sets the borders from the null vectors of R_y at (y, ω; p).
   bool Rebase(const Eigen::VectorXd& y, double omega, double p) {
+    Eigen::VectorXd residual;
     Eigen::MatrixXd jacobian;
-    if (!System(p).Evaluate(y, omega, &residual_, &jacobian, nullptr)) return false;
+    if (!System(p).Evaluate(y, omega, &residual, &jacobian, nullptr)) return false;
     Eigen::BDCSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const int n = static_cast<int>(y.size());
     b_ = svd.matrixU().col(n - 1);
@@ -140,7 +141,7 @@ class FoldProblem : public ContinuationProblem {
   const CaseParameter& parameter_;
   double parameter_scale_;
   std::map<double, std::unique_ptr<HarmonicSystem>> systems_;
-  Eigen::VectorXd b_, c_, residual_;
+  Eigen::VectorXd b_, c_;
 };
 
 // Re-borders the problem at every accepted point so that [[R_y, b], [cᵀ, 0]] stays well

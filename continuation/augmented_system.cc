@@ -23,7 +23,7 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
   return a;
 }
 
-bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
+bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
   const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
   if (!(pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff())) return false;
@@ -36,11 +36,7 @@ bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::V
   if (elimination != nullptr && !elimination->empty() && SolveEliminating(a, b, *elimination, x)) {
     return true;
   }
-  Eigen::MatrixXd solution;
-  if (SolveRegular(a, b, &solution)) {
-    *x = solution.col(0);
-    return true;
-  }
+  if (SolveRegular(a, b, x)) return true;
   Eigen::FullPivLU<Eigen::MatrixXd> full(a);
   *x = full.solve(b);
   return x->allFinite();

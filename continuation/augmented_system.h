@@ -13,9 +13,9 @@ namespace nfrc {
 Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
                                 double residual_scale, const Eigen::VectorXd& last_row);
 
-// Solves a x = b (b may hold several columns) by a partial-pivoting LU; false if a pivot is
-// at rounding level against the largest (a numerically singular) or x is not finite.
-bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::MatrixXd* x);
+// Solves a x = b by a partial-pivoting LU; false if a pivot is at rounding level against the
+// largest (a numerically singular) or x is not finite.
+bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
 // Solves a x = b by one partial-pivoting LU of the whole matrix; falls back to a
 // full-pivoting LU when that LU is (numerically) singular. False if x is not finite.

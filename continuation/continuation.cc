@@ -81,9 +81,9 @@ double ResidualScale(Evaluator& evaluator, const Eigen::VectorXd& y_guess, doubl
 void SeedZeroGroups(const Linearization& linearization, Scaling* scaling) {
   if (!scaling->HasZeroGroup()) return;
   // Partial pivoting: a full-pivoting LU of thousands of unknowns took seconds (unblocked).
-  Eigen::MatrixXd dy_dlambda;
+  Eigen::VectorXd dy_dlambda;
   if (SolveRegular(linearization.jacobian_y, linearization.jacobian_lambda, &dy_dlambda)) {
-    scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda.col(0));
+    scaling->SeedZeroGroups(scaling->lambda_scale() * dy_dlambda);
   }
   if (scaling->HasZeroGroup()) scaling->SeedZeroGroupsFromColumns(linearization.jacobian_y);
 }

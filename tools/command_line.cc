@@ -90,22 +90,43 @@ std::optional<double> CommandLine::Number(const std::string& name, NumberDomain 
   return ParseNumber(name, *text, domain);
 }
 
-std::optional<int> CommandLine::Int(const std::string& name, int min, int max) const {
-  const std::optional<std::string> text = Value(name);
-  if (!text) return std::nullopt;
+int CommandLine::ParseInt(const std::string& name, const std::string& text, int min,
+                          int max) const {
   // Parsed as long long so that a huge value is reported as out of range, not as garbage.
   long long value = 0;
-  const char* end = text->data() + text->size();
-  const auto [stop, error] = std::from_chars(text->data(), end, value);
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
   std::string range = "[";  // appended piecewise: GCC 12's -Wrestrict misfires on "[" + string
   range += std::to_string(min) + ", " + std::to_string(max) + "]";
   if ((error != std::errc() && error != std::errc::result_out_of_range) || stop != end) {
-    throw Error(name + ": expected an integer in " + range + ", got " + Quoted(*text));
+    throw Error(name + ": expected an integer in " + range + ", got " + Quoted(text));
   }
   if (error == std::errc::result_out_of_range || value < min || value > max) {
-    throw Error(name + ": out of range " + range + ": " + Quoted(*text));
+    throw Error(name + ": out of range " + range + ": " + Quoted(text));
   }
   return static_cast<int>(value);
+}
+
+std::optional<int> CommandLine::Int(const std::string& name, int min, int max) const {
+  const std::optional<std::string> text = Value(name);
+  if (!text) return std::nullopt;
+  return ParseInt(name, *text, min, max);
+}
+
+std::vector<double> CommandLine::Range(const std::string& name, int max_count) const {
+  const std::optional<std::string> text = Value(name);
+  if (!text) return {};
+  const size_t first = text->find(':');
+  const size_t second = first == std::string::npos ? first : text->find(':', first + 1);
+  if (second == std::string::npos)
+    throw Error(name + ": expected FROM:TO:COUNT, got " + Quoted(*text));
+  const double from = ParseNumber(name, text->substr(0, first), NumberDomain::kFinite);
+  const double to =
+      ParseNumber(name, text->substr(first + 1, second - first - 1), NumberDomain::kFinite);
+  const int count = ParseInt(name, text->substr(second + 1), 2, max_count);
+  std::vector<double> values;
+  for (int k = 0; k < count; ++k) values.push_back(from + (to - from) * k / (count - 1));
+  return values;
 }
 
 std::vector<double> CommandLine::NumberList(const std::string& name, NumberDomain domain) const {

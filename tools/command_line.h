@@ -56,6 +56,9 @@ class CommandLine {
                                NumberDomain domain = NumberDomain::kFinite) const;
   // An integer (decimal digits, optional minus sign) in [min, max]; nullopt if absent.
   std::optional<int> Int(const std::string& name, int min, int max) const;
+  // FROM:TO:COUNT as COUNT (2 to max_count) evenly spaced numbers, both ends included;
+  // empty if absent.
+  std::vector<double> Range(const std::string& name, int max_count) const;
   // Comma-separated numbers ("1,2.5,3"), each finite and in `domain`; empty if absent.
   std::vector<double> NumberList(const std::string& name,
                                  NumberDomain domain = NumberDomain::kFinite) const;
@@ -70,6 +73,7 @@ class CommandLine {
  private:
   const OptionSpec& Spec(const std::string& name) const;
   double ParseNumber(const std::string& name, const std::string& text, NumberDomain domain) const;
+  int ParseInt(const std::string& name, const std::string& text, int min, int max) const;
 
   std::string command_;
   std::vector<OptionSpec> specs_;

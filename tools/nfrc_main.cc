@@ -175,31 +175,18 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
+// The sweep's last line and exit code: 0 when every run is complete.
 int ReportSweep(const std::vector<nfrc::SweepRun>& runs, const std::string& out_dir,
-                const nfrc::StopSignal& stop);
-
-// FROM:TO:COUNT as COUNT evenly spaced values, both ends included.
-std::vector<double> RangeValues(const nfrc::CommandLine& line, const std::string& text) {
-  const size_t first = text.find(':'), second = text.find(':', first + 1);
-  if (first == std::string::npos || second == std::string::npos) {
-    throw line.Error("--range: expected FROM:TO:COUNT");
+                const nfrc::StopSignal& stop) {
+  int complete = 0, resumed = 0;
+  for (const nfrc::SweepRun& run : runs) {
+    complete += run.status == "complete";
+    resumed += run.resumed;
   }
-  const nfrc::CommandLine parts(
-      "sweep",
-      {"--from", text.substr(0, first), "--to", text.substr(first + 1, second - first - 1),
-       "--count", text.substr(second + 1)},
-      {nfrc::OptionSpec::Value("--from"), nfrc::OptionSpec::Value("--to"),
-       nfrc::OptionSpec::Value("--count")});
-  try {
-    const double from = *parts.Number("--from"), to = *parts.Number("--to");
-    // More than 10⁵ branches is not a sweep this machine class finishes.
-    const int count = *parts.Int("--count", 2, 100000);
-    std::vector<double> values;
-    for (int k = 0; k < count; ++k) values.push_back(from + (to - from) * k / (count - 1));
-    return values;
-  } catch (const nfrc::UsageError&) {
-    throw line.Error("--range: expected FROM:TO:COUNT (finite numbers, COUNT 2 to 100000)");
-  }
+  std::cerr << "nfrc: " << complete << " of " << runs.size() << " runs complete (" << resumed
+            << " kept from an earlier run), wrote " << out_dir << "/sweep.json\n";
+  return complete == static_cast<int>(runs.size()) && !stop.requested() ? kExitOk
+                                                                        : kExitRunIncomplete;
 }
 
 int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
@@ -212,9 +199,12 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   const std::optional<std::string> path = line.Value("--parameter");
   if (!path) throw line.Error("needs --parameter PATH");
   std::vector<double> values = line.NumberList("--values");
-  const std::optional<std::string> range = line.Value("--range");
-  if (values.empty() == !range) throw line.Error("needs one of --values V1,V2,... or --range");
-  if (range) values = RangeValues(line, *range);
+  // More than 10⁵ branches is not a sweep this machine class finishes.
+  const std::vector<double> range = line.Range("--range", 100000);
+  if (values.empty() == range.empty()) {
+    throw line.Error("needs one of --values V1,V2,... or --range FROM:TO:COUNT");
+  }
+  if (!range.empty()) values = range;
   // Two cores here; a few hundred threads is more than any machine this runs on has.
   const int jobs = line.Int("--jobs", 1, 256).value_or(1);
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
@@ -238,20 +228,6 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   options.stop = &stop.flag();
   return ReportSweep(nfrc::RunSweep(file, parameter, values, io.out_dir, options), io.out_dir,
                      stop);
-}
-
-// The sweep's last line and exit code: 0 when every run is complete.
-int ReportSweep(const std::vector<nfrc::SweepRun>& runs, const std::string& out_dir,
-                const nfrc::StopSignal& stop) {
-  int complete = 0, resumed = 0;
-  for (const nfrc::SweepRun& run : runs) {
-    complete += run.status == "complete";
-    resumed += run.resumed;
-  }
-  std::cerr << "nfrc: " << complete << " of " << runs.size() << " runs complete (" << resumed
-            << " kept from an earlier run), wrote " << out_dir << "/sweep.json\n";
-  return complete == static_cast<int>(runs.size()) && !stop.requested() ? kExitOk
-                                                                        : kExitRunIncomplete;
 }
 
 // Runs tools/<script> with the arguments under the system Python; its exit status.

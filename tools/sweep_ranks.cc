@@ -100,20 +100,17 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   }
   failure = Broadcast(failure, rank);
   if (!failure.empty()) throw InputError(failure);
-  // The pending runs, in rank 0's order, as a list of indices.
-  std::string pending;
+  // The pending runs, in rank 0's order.
+  std::vector<int> todo;
   if (rank == 0) {
     for (const SweepRun& run : runs) {
-      if (!run.resumed) pending += std::to_string(run.index) + ",";
+      if (!run.resumed) todo.push_back(run.index);
     }
   }
-  pending = Broadcast(pending, rank);
-  std::vector<int> todo;
-  for (size_t start = 0; start < pending.size();) {
-    const size_t comma = pending.find(',', start);
-    todo.push_back(std::stoi(pending.substr(start, comma - start)));
-    start = comma + 1;
-  }
+  int pending = static_cast<int>(todo.size());
+  MPI_Bcast(&pending, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  todo.resize(static_cast<size_t>(pending));
+  if (pending > 0) MPI_Bcast(todo.data(), pending, MPI_INT, 0, MPI_COMM_WORLD);
 
   // The shared counter. Some transports offer no one-sided window (Open MPI's shared memory
   // with its single-copy mechanism disabled, as some containers require): then the runs are
