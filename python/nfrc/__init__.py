@@ -22,7 +22,7 @@ __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "D
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
            "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "solve_at",
-           "switch_branch",
+           "sweep", "switch_branch",
            "trace",
            "__version__"]
 
@@ -259,6 +259,17 @@ def fold_curve(case, parameter, to, max_step=0.1, progress=False):
     "energy", "max_abs" (per point a dict by output name) in order along the curve, and "turns"
     (where the curve turns back in the parameter; "cusp" when omega turns too)."""
     return _nfrc._fold_curve(case, str(parameter), float(to), float(max_step), bool(progress))
+
+
+def sweep(case, parameter, values, progress=False):
+    """One branch of `case` per value of `parameter` (a case-file path, as for fold_curve), in
+    order: a list of dicts with "value", "status" ("complete", "failed", "interrupted" or
+    "pending"), "message" and, for a traced run, "branch" (a Branch, as trace returns it). A
+    value the case refuses fails that run only; Ctrl-C stops the running branch, whose points
+    are kept, and leaves the rest pending. The branches run one after the other; analyses
+    release the GIL, so Python threads can run several sweeps at once. `nfrc sweep` writes the
+    same runs to disk, with threads, MPI ranks and resume."""
+    return _nfrc._sweep(case, str(parameter), [float(v) for v in values], bool(progress))
 
 
 def solve_at(case, omega, progress=False):

@@ -1,8 +1,10 @@
-// nfrc.fold_curve: the folds of a case's branch followed in a second parameter.
+// nfrc.fold_curve and nfrc.sweep: studies in a second parameter of a case.
 #include "analysis/fold_curve.h"
 
 #include <algorithm>
 #include <iostream>
+#include <optional>
+#include <vector>
 
 #include "analysis/case_parameter.h"
 #include "bindings.h"
@@ -62,6 +64,55 @@ void BindFoldCurve(py::module_& m) {
                         "notes"_a = result.notes, "curves"_a = curves);
       },
       "case"_a, "parameter"_a, "to"_a, "max_step"_a = 0.1, "progress"_a = false);
+
+  m.def(
+      "_sweep",
+      [](const PyCase& c, const std::string& path, const std::vector<double>& values,
+         bool progress) {
+        const Case the_case = c.value;
+        const CaseParameter parameter(path, the_case);
+        py::list runs;
+        bool interrupted = false;
+        for (double value : values) {
+          py::dict run("value"_a = value);
+          if (interrupted) {
+            run["status"] = "pending";
+            runs.append(run);
+            continue;
+          }
+          // A value the case refuses is the run's status, not the end of the sweep.
+          std::optional<Case> at_value;
+          try {
+            at_value = parameter.With(the_case, value);
+          } catch (const InputError& error) {
+            run["status"] = "failed";
+            run["message"] = error.what();
+            runs.append(run);
+            continue;
+          }
+          InterruptWatch watch;
+          TraceOptions options;
+          options.progress = progress ? &std::cerr : nullptr;
+          options.stop = watch.stop();
+          options.observer = &watch;
+          BranchView branch{{}, std::make_shared<OutputNaming>(*at_value), false};
+          {
+            py::gil_scoped_release release;
+            branch.result = TraceCase(*at_value, options);
+          }
+          branch.interrupted = watch.Finish();
+          interrupted = branch.interrupted;
+          const ContinuationSummary& summary = branch.result.branch.summary;
+          const bool complete =
+              summary.success() || summary.reason == TerminationReason::kMaxPoints;
+          run["status"] = interrupted ? "interrupted" : complete ? "complete" : "failed";
+          run["message"] = summary.message;
+          run["branch"] = std::move(branch);
+          runs.append(run);
+        }
+        return runs;
+      },
+      "case"_a, "parameter"_a, "values"_a, "progress"_a = false);
 }
 
 }  // namespace nfrc::python
