@@ -148,16 +148,16 @@ class FoldProblem : public ContinuationProblem {
 // conditioned however far the curve goes; g = 0 marks the same folds with any regular border.
 class Rebaser : public ContinuationObserver {
  public:
-  Rebaser(FoldProblem& problem, const std::atomic<bool>* stop) : problem_(problem), stop_(stop) {}
+  Rebaser(FoldProblem& problem, StopCheck& check) : problem_(problem), check_(check) {}
   bool OnPoint(const BranchPoint& point, int /*index*/) override {
     const int n = static_cast<int>(point.y.size()) - 1;
     problem_.Rebase(point.y.head(n), point.y(n), point.lambda);
-    return stop_ == nullptr || !stop_->load();
+    return check_.Continue();
   }
 
  private:
   FoldProblem& problem_;
-  const std::atomic<bool>* stop_;
+  StopCheck& check_;
 };
 
 bool OnCurve(const FoldCurve& curve, double p, double omega, double p_scale) {
@@ -168,7 +168,8 @@ bool OnCurve(const FoldCurve& curve, double p, double omega, double p_scale) {
 }
 
 FoldCurve FollowFold(const Case& the_case, const CaseParameter& parameter,
-                     const FoldCurveOptions& options, double from, const Fold& fold) {
+                     const FoldCurveOptions& options, double from, const Fold& fold,
+                     StopCheck& check) {
   const double p_scale = std::max({std::abs(from), std::abs(options.to), 1e-300});
   FoldProblem problem(the_case, parameter, p_scale);
   FoldCurve curve;
@@ -191,7 +192,7 @@ FoldCurve FollowFold(const Case& the_case, const CaseParameter& parameter,
   continuation.lambda_name = parameter.path();
   Eigen::VectorXd start(fold.y.size() + 1);
   start << fold.y, fold.lambda;
-  Rebaser rebaser(problem, options.stop);
+  Rebaser rebaser(problem, check);
   const Branch branch = Continue(problem, start, continuation, &rebaser);
   curve.summary = branch.summary;
   const int n = static_cast<int>(fold.y.size());
@@ -251,8 +252,9 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
   branch_case.stability.enabled = false;  // only the folds are needed
   TraceOptions trace_options;
   trace_options.progress = options.progress;
-  trace_options.stop = options.stop;
   trace_options.solve_signals = false;
+  StopCheck check(options.stop, options.poll);
+  trace_options.observer = &check;
   const TraceResult trace = TraceCase(branch_case, trace_options);
   result.branch_folds = static_cast<int>(trace.folds.size());
   if (trace.folds.empty()) {
@@ -260,7 +262,7 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
   }
   const double p_scale = std::max({std::abs(result.from), std::abs(result.to), 1e-300});
   for (size_t i = 0; i < trace.folds.size(); ++i) {
-    if (options.stop != nullptr && options.stop->load()) break;
+    if (!check.Continue()) break;
     const Fold& fold = trace.folds[i].fold;
     const auto earlier =
         std::find_if(result.curves.begin(), result.curves.end(),
@@ -275,7 +277,7 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
                         << parameter.path() << " from " << result.from << " to " << options.to
                         << "\n";
     }
-    FoldCurve curve = FollowFold(the_case, parameter, options, result.from, fold);
+    FoldCurve curve = FollowFold(the_case, parameter, options, result.from, fold, check);
     curve.start_fold = static_cast<int>(i);
     result.curves.push_back(std::move(curve));
     if (options.observer != nullptr) options.observer->OnCurve(result.curves.back());

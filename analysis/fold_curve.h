@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <atomic>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct FoldCurveOptions {
   int max_points = 2000;  // per curve
   std::ostream* progress = nullptr;
   const std::atomic<bool>* stop = nullptr;  // raised: each curve stops after its point
+  // Called after every point of the branch and of the curves; false stops as `stop` does
+  // (Python checks its signals here). Empty: not called.
+  std::function<bool()> poll;
   FoldCurveObserver* observer = nullptr;
 
   // Throws InputError naming "to", "initial_step", "max_step" or "max_points".

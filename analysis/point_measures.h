@@ -41,6 +41,7 @@ class PointAnalyzer {
   double MaxAbs(const Eigen::VectorXd& y, double omega, int dof);
   // The fine sampling used for max |x|, for writing time signals.
   const FourierTransform& fine() const { return fine_; }
+  const std::vector<int>& output_dofs() const { return output_dofs_; }
 
  private:
   HarmonicSystem& system_;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <atomic>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -62,6 +63,29 @@ class TraceObserver {
   virtual void OnFold(const TraceFold& /*fold*/) {}
   virtual void OnBifurcation(const Bifurcation& /*bifurcation*/) {}
   virtual void OnSignals(const SolutionSignals& /*signals*/) {}
+};
+
+// Whether a study (fold or peak curves) goes on: a stop flag (a signal handler's) and a poll
+// callback (Python checks its signals there), both optional. Once stopped it stays stopped. As
+// a TraceObserver it stops the study's branch trace too.
+class StopCheck : public TraceObserver {
+ public:
+  StopCheck(const std::atomic<bool>* stop, std::function<bool()> poll)
+      : stop_(stop), poll_(std::move(poll)) {}
+  // Polls; false once the flag was raised or the callback returned false.
+  bool Continue() {
+    if (!stopped_ && ((stop_ != nullptr && stop_->load()) || (poll_ && !poll_()))) {
+      stopped_ = true;
+    }
+    return !stopped_;
+  }
+  bool stopped() const { return stopped_; }
+  bool OnPoint(const TracePoint& /*point*/) override { return Continue(); }
+
+ private:
+  const std::atomic<bool>* stop_;
+  std::function<bool()> poll_;
+  bool stopped_ = false;
 };
 
 struct TraceOptions {

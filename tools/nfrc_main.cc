@@ -11,11 +11,13 @@
 
 #include "analysis/case_parameter.h"
 #include "analysis/fold_curve.h"
+#include "analysis/peak_curve.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
 #include "tools/command_line.h"
 #include "tools/fold_curve_writer.h"
 #include "tools/output_files.h"
+#include "tools/peak_curve_writer.h"
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
 #include "tools/stop_signal.h"
@@ -49,6 +51,12 @@ constexpr const char* kUsage =
     "                                 follow each fold of the branch in (PATH, omega), e.g.\n"
     "                                 PATH model.forcing[0].cos or nonlinearities[0].gap\n"
     "                                 (DIR/fold_curve.json)\n"
+    "  nfrc fold-curve CASE.json --kind peak --parameter PATH --to VALUE --out DIR\n"
+    "              [--measure energy|h1:OUT|max_abs:OUT] [--near W] [--at P1,P2,...]\n"
+    "              [--max-step F]\n"
+    "                                 follow each maximum of the measure along omega in PATH\n"
+    "                                 (steps at most F |VALUE - from|, landing on each Pi)\n"
+    "                                 (DIR/peak_curve.json)\n"
     "  nfrc sweep CASE.json --parameter PATH (--values V1,V2,... | --range FROM:TO:COUNT)\n"
     "              --out DIR [--jobs N]\n"
     "                                 one branch per value in DIR/<k>/, DIR/sweep.json\n"
@@ -132,19 +140,89 @@ int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   return complete ? kExitOk : kExitRunIncomplete;
 }
 
+// An InputError about a peak-curve option, re-raised naming the command-line option that set it
+// ("stations: ..." becomes "--at: ...").
+[[noreturn]] void RethrowAsOption(const nfrc::CommandLine& line, const nfrc::InputError& error) {
+  static const std::pair<const char*, const char*> kOptions[] = {
+      {"stations", "--at"},           {"near", "--near"},
+      {"measure", "--measure"},       {"max_step", "--max-step"},
+      {"initial_step", "--max-step"}, {"min_step", "--max-step"}};
+  const std::string message = error.what();
+  for (const auto& [field, option] : kOptions) {
+    if (message.rfind(std::string(field) + ":", 0) == 0) {
+      throw line.Error(option + message.substr(std::string(field).size()));
+    }
+  }
+  throw error;
+}
+
+int PeakCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::string& path,
+              double to, const nfrc::StopSignal& stop) {
+  using nfrc::NumberDomain;
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
+  const nfrc::Case& the_case = file.the_case;
+  const nfrc::CaseParameter parameter(path, the_case);
+  nfrc::PeakCurveOptions options;
+  options.to = to;
+  try {
+    options.measure = nfrc::ParsePeakMeasure(line.Value("--measure").value_or("energy"), the_case);
+  } catch (const nfrc::InputError& error) {
+    RethrowAsOption(line, error);
+  }
+  if (const auto near = line.Number("--near", NumberDomain::kPositive)) options.near = *near;
+  options.stations = line.NumberList("--at");
+  if (const auto max_step = line.Number("--max-step", NumberDomain::kPositive)) {
+    options.max_step = *max_step;
+    options.initial_step = std::min(options.initial_step, *max_step);
+    options.min_step = std::min(options.min_step, options.initial_step);
+  }
+  const double from = parameter.Get(the_case);
+  try {
+    options.Validate(from);
+  } catch (const nfrc::InputError& error) {
+    RethrowAsOption(line, error);
+  }
+  options.progress = &std::cerr;
+  options.stop = &stop.flag();
+  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  nfrc::PeakCurveWriter writer(io.out_dir, parameter.path(), from, to, options.measure.name,
+                               file.source);
+  options.observer = &writer;
+  const nfrc::PeakCurveResult result = nfrc::TracePeakCurves(the_case, parameter, options);
+  writer.Finish(result);
+  bool complete = !result.curves.empty();
+  for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
+  for (size_t i = 0; i < result.curves.size(); ++i) {
+    const nfrc::PeakCurve& curve = result.curves[i];
+    std::cerr << "nfrc: peak " << i << " (omega=" << curve.start_omega
+              << "): " << nfrc::ToString(curve.end) << ", " << curve.points.size() << " points, "
+              << curve.solves << " solves" << (curve.message.empty() ? "" : ": " + curve.message)
+              << "\n";
+    complete = complete && curve.end == nfrc::PeakCurveEnd::kReachedTo;
+  }
+  std::cerr << "nfrc: wrote " << io.out_dir << "/peak_curve.json\n";
+  return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
+}
+
 int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   using nfrc::NumberDomain;
   using nfrc::OptionSpec;
   const nfrc::CommandLine line(
       "fold-curve", args,
       {OptionSpec::Value("--out"), OptionSpec::Value("--parameter"), OptionSpec::Value("--to"),
-       OptionSpec::Value("--max-step"), OptionSpec::Value("--kind")});
+       OptionSpec::Value("--max-step"), OptionSpec::Value("--kind"), OptionSpec::Value("--measure"),
+       OptionSpec::Value("--near"), OptionSpec::Value("--at")});
   const CaseAndOut io = RequireCaseAndOut(line);
   const std::optional<std::string> path = line.Value("--parameter");
   const std::optional<double> to = line.Number("--to");
   if (!path || !to) throw line.Error("needs --parameter PATH and --to VALUE");
-  // Neimark-Sacker and peak curves are not built yet: the choice says what is.
-  line.Choice("--kind", {"fold"});
+  // Neimark-Sacker curves are not built yet: the choice says what is.
+  if (line.Choice("--kind", {"fold", "peak"}).value_or("fold") == "peak") {
+    return PeakCurve(line, io, *path, *to, stop);
+  }
+  for (const char* option : {"--measure", "--near", "--at"}) {
+    if (line.Value(option)) throw line.Error(std::string(option) + " needs --kind peak");
+  }
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
   const nfrc::CaseParameter parameter(*path, the_case);

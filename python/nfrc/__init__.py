@@ -21,7 +21,7 @@ from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, Dlf
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
-           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "solve_at",
+           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "peak_curve", "solve_at",
            "sweep", "switch_branch",
            "trace",
            "__version__"]
@@ -257,8 +257,23 @@ def fold_curve(case, parameter, to, max_step=0.1, progress=False):
     Returns a dict: "parameter", "from", "to", "branch_folds", "notes" and "curves", each with
     "start_fold", "start_omega", "termination", "message", the lists "parameter", "omega",
     "energy", "max_abs" (per point a dict by output name) in order along the curve, and "turns"
-    (where the curve turns back in the parameter; "cusp" when omega turns too)."""
+    (where the curve turns back in the parameter; "cusp" when omega turns too). Ctrl-C stops
+    it after the current point: the curves so far are returned with "interrupted" True."""
     return _nfrc._fold_curve(case, str(parameter), float(to), float(max_step), bool(progress))
+
+
+def peak_curve(case, parameter, to, measure="energy", near=None, at=(), max_step=0.1,
+               progress=False):
+    """Follows each maximum along omega of `measure` ("energy", "h1:OUT" or "max_abs:OUT" with
+    OUT an output DOF's name) on the case's branch in `parameter` towards `to`: the resonance
+    peaks where friction leaves no fold. `near`: only the peak nearest this omega; `at`:
+    parameter values every curve lands on; steps are at most max_step |to - from|. Returns a
+    dict: "parameter", "from", "to", "measure", "branch_peaks", "notes", "interrupted" and
+    "curves", each with "start_omega", "termination" ("reached_to", "vanished", ...),
+    "message", "solves" and the lists "parameter", "omega", "measure"."""
+    return _nfrc._peak_curve(case, str(parameter), float(to), str(measure),
+                             float("nan") if near is None else float(near),
+                             [float(v) for v in at], float(max_step), bool(progress))
 
 
 def sweep(case, parameter, values, progress=False):

@@ -117,6 +117,8 @@ class InterruptWatch : public TraceObserver {
  public:
   InterruptWatch();  // with the GIL held
   bool OnPoint(const TracePoint& point) override;
+  // Checks Python's signals (taking the GIL) from the main thread; false once interrupted.
+  bool Poll();
   const std::atomic<bool>* stop() const { return &stop_; }
   // With the GIL held, after the analysis: re-raises a pending non-interrupt error; returns
   // whether a KeyboardInterrupt stopped the analysis.

@@ -1,12 +1,14 @@
-// nfrc.fold_curve and nfrc.sweep: studies in a second parameter of a case.
+// nfrc.fold_curve, nfrc.peak_curve and nfrc.sweep: studies in a second parameter of a case.
 #include "analysis/fold_curve.h"
 
 #include <algorithm>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <vector>
 
 #include "analysis/case_parameter.h"
+#include "analysis/peak_curve.h"
 #include "bindings.h"
 
 namespace nfrc::python {
@@ -50,20 +52,69 @@ void BindFoldCurve(py::module_& m) {
         options.max_step = max_step;
         options.initial_step = std::min(options.initial_step, max_step);
         options.progress = progress ? &std::cerr : nullptr;
+        InterruptWatch watch;
+        options.poll = [&watch] { return watch.Poll(); };
         FoldCurveResult result;
         {
           py::gil_scoped_release release;
           result = TraceFoldCurves(the_case, parameter, options);
         }
+        const bool interrupted = watch.Finish();
         py::list curves;
         for (const FoldCurve& curve : result.curves) {
           curves.append(CurveDict(curve, the_case.output_names));
         }
         return py::dict("parameter"_a = result.parameter, "from"_a = result.from,
                         "to"_a = result.to, "branch_folds"_a = result.branch_folds,
-                        "notes"_a = result.notes, "curves"_a = curves);
+                        "notes"_a = result.notes, "curves"_a = curves,
+                        "interrupted"_a = interrupted);
       },
       "case"_a, "parameter"_a, "to"_a, "max_step"_a = 0.1, "progress"_a = false);
+
+  m.def(
+      "_peak_curve",
+      [](const PyCase& c, const std::string& path, double to, const std::string& measure,
+         double near, const std::vector<double>& at, double max_step, bool progress) {
+        const Case the_case = c.value;
+        const CaseParameter parameter(path, the_case);
+        PeakCurveOptions options;
+        options.to = to;
+        options.measure = ParsePeakMeasure(measure, the_case);
+        options.near = near;
+        options.stations = at;
+        options.max_step = max_step;
+        options.initial_step = std::min(options.initial_step, max_step);
+        options.min_step = std::min(options.min_step, options.initial_step);
+        options.progress = progress ? &std::cerr : nullptr;
+        InterruptWatch watch;
+        options.poll = [&watch] { return watch.Poll(); };
+        PeakCurveResult result;
+        {
+          py::gil_scoped_release release;
+          result = TracePeakCurves(the_case, parameter, options);
+        }
+        const bool interrupted = watch.Finish();
+        py::list curves;
+        for (const PeakCurve& curve : result.curves) {
+          py::list parameter_values, omega, values;
+          for (const PeakCurvePoint& point : curve.points) {
+            parameter_values.append(point.parameter);
+            omega.append(point.omega);
+            values.append(point.measure);
+          }
+          curves.append(py::dict("start_omega"_a = curve.start_omega,
+                                 "termination"_a = ToString(curve.end), "message"_a = curve.message,
+                                 "parameter"_a = parameter_values, "omega"_a = omega,
+                                 "measure"_a = values, "solves"_a = curve.solves));
+        }
+        return py::dict("parameter"_a = result.parameter, "from"_a = result.from,
+                        "to"_a = result.to, "measure"_a = result.measure,
+                        "branch_peaks"_a = result.branch_peaks, "notes"_a = result.notes,
+                        "curves"_a = curves, "interrupted"_a = interrupted);
+      },
+      "case"_a, "parameter"_a, "to"_a, "measure"_a = "energy",
+      "near"_a = std::numeric_limits<double>::quiet_NaN(), "at"_a = std::vector<double>{},
+      "max_step"_a = 0.1, "progress"_a = false);
 
   m.def(
       "_sweep",

@@ -18,7 +18,10 @@ InterruptWatch::InterruptWatch() {
       py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
 }
 
-bool InterruptWatch::OnPoint(const TracePoint& /*point*/) {
+bool InterruptWatch::OnPoint(const TracePoint& /*point*/) { return Poll(); }
+
+bool InterruptWatch::Poll() {
+  if (stop_.load()) return false;
   if (!main_thread_) return true;
   py::gil_scoped_acquire gil;
   if (PyErr_CheckSignals() == 0) return true;

@@ -1,6 +1,9 @@
 """nfrc.fold_curve and nfrc.sweep on the one-harmonic Duffing oscillator, against closed forms."""
 import math
 import os
+import signal
+import threading
+import time
 
 import pytest
 
@@ -64,3 +67,53 @@ def test_sweep_traces_one_branch_per_value_and_fails_only_the_refused_one():
         exact = closed_form_peak(run["value"])
         assert exact * (1 - PEAK_TOLERANCE) < peak < exact * (1 + 1e-12)
     assert len(runs[0]["branch"].folds) == 0 and len(runs[2]["branch"].folds) == 2
+
+
+def closed_form_peak_point(force):
+    """Where the one-harmonic amplitude is largest: k - w^2 + b A^2 = c^2 / 2 and
+    (c^4 / 4 + c^2 w^2) A^2 = P^2, a quadratic in A^2 (b = 3 k3 / 4)."""
+    beta = 0.75 * K3
+    b = C * C * K - C ** 4 / 4.0
+    a = (-b + math.sqrt(b * b + 4.0 * C * C * beta * force * force)) / (2.0 * C * C * beta)
+    return math.sqrt(K + beta * a - C * C / 2.0), math.sqrt(a)
+
+
+# The peak is bracketed to 1e-8 relative in omega; one harmonic with 16 samples is the
+# amplitude equation exactly.
+PEAK_CURVE_TOLERANCE = 1e-7
+
+
+def test_peak_curve_follows_the_closed_form_maximum_in_the_forcing():
+    case = nfrc.load_case(os.path.join(CASES, "duffing_h1.json"))
+    result = nfrc.peak_curve(case, "model.forcing[0].cos", 0.08, measure="h1:0", at=[0.1])
+    assert result["measure"] == "h1_0" and not result["interrupted"]
+    (curve,) = result["curves"]
+    assert curve["termination"] == "reached_to"
+    assert 0.1 in curve["parameter"] and curve["parameter"][-1] == 0.08
+    for force, omega, amplitude in zip(curve["parameter"], curve["omega"], curve["measure"]):
+        expected_omega, expected_amplitude = closed_form_peak_point(force)
+        assert abs(omega - expected_omega) < PEAK_CURVE_TOLERANCE
+        assert abs(amplitude - expected_amplitude) < PEAK_CURVE_TOLERANCE * expected_amplitude
+
+
+def test_peak_curve_names_a_bad_measure():
+    case = nfrc.load_case(os.path.join(CASES, "duffing_h1.json"))
+    with pytest.raises(nfrc.InputError, match="measure"):
+        nfrc.peak_curve(case, "model.forcing[0].cos", 0.08, measure="h3:0")
+
+
+def test_peak_curve_stops_on_ctrl_c_and_keeps_its_curves():
+    # Steps of 1e-4 of the range: tens of thousands of peak points (minutes) if not stopped.
+    case = nfrc.load_case(os.path.join(CASES, "friction", "frc_n10.json"))
+    timer = threading.Timer(2.0, os.kill, (os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        result = nfrc.peak_curve(case, "nonlinearities[0].normal_load", 12.0, near=0.553,
+                                 max_step=1e-4)
+    finally:
+        timer.cancel()
+    assert result["interrupted"]
+    assert time.monotonic() - started < 30.0
+    for curve in result["curves"]:
+        assert curve["termination"] == "stopped"

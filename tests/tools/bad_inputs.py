@@ -295,6 +295,21 @@ command("fold_curve_to_from", ["fold-curve", duffing, "--out", out, "--parameter
 command("fold_curve_kind_ns", ["fold-curve", duffing, "--out", out, "--parameter",
                                "model.forcing[0].cos", "--to", "0.1", "--kind", "neimark_sacker"],
         EXIT_USAGE, "--kind")
+command("peak_curve_bad_measure", ["fold-curve", duffing, "--out", out, "--kind", "peak",
+                                    "--parameter", "model.forcing[0].cos", "--to", "0.1",
+                                    "--measure", "h3:0"], EXIT_USAGE, "--measure")
+command("peak_curve_measure_output", ["fold-curve", duffing, "--out", out, "--kind", "peak",
+                                      "--parameter", "model.forcing[0].cos", "--to", "0.1",
+                                      "--measure", "h1:x9"], EXIT_USAGE, "x9")
+command("peak_curve_station_outside", ["fold-curve", duffing, "--out", out, "--kind", "peak",
+                                       "--parameter", "model.forcing[0].cos", "--to", "0.1",
+                                       "--at", "0.05"], EXIT_USAGE, "--at")
+command("peak_curve_near_negative", ["fold-curve", duffing, "--out", out, "--kind", "peak",
+                                     "--parameter", "model.forcing[0].cos", "--to", "0.1",
+                                     "--near", "-1"], EXIT_USAGE, "--near")
+command("fold_curve_measure_without_peak", ["fold-curve", duffing, "--out", out, "--parameter",
+                                            "model.forcing[0].cos", "--to", "0.1", "--measure",
+                                            "energy"], EXIT_USAGE, "--measure")
 command("sweep_no_values", ["sweep", duffing, "--out", out, "--parameter",
                             "model.forcing[0].cos"], EXIT_USAGE, "--values")
 command("sweep_range_short", ["sweep", duffing, "--out", out, "--parameter",

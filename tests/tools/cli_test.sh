@@ -43,6 +43,24 @@ assert d["parameter"] == "model.forcing[0].cos" and d["from"] == 0.18 and d["to"
 assert len(d["cusps"]) == 1 and len(d["points"]) > 10, d["cusps"]
 assert all(set(p) >= {"parameter", "omega", "energy", "max_abs_0"} for p in d["points"])
 PY
+expect "duffing peak curve" 0 "wrote $work/pc/peak_curve.json" -- "$nfrc" fold-curve \
+  "$src/cases/duffing_h1.json" --kind peak --measure h1:0 --parameter "model.forcing[0].cos" \
+  --to 0.1 --at 0.12 --out "$work/pc"
+grep -q "nfrc: peak 0 point" "$work/err" || { echo "FAIL peak curve progress"; failures=$((failures + 1)); }
+/usr/bin/python3 - "$work/pc/peak_curve.json" <<'PY' || { echo "FAIL peak_curve.json"; failures=$((failures + 1)); }
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["measure"] == "h1_0" and d["branch_peaks"] == 1 and d["from"] == 0.18
+(curve,) = d["curves"]
+assert curve["termination"] == "reached_to", curve
+# The one-harmonic maximum: k - w^2 + b A^2 = c^2/2, (c^4/4 + c^2 w^2) A^2 = P^2 (c 0.05, b 0.075).
+c, b = 0.05, 0.075
+for p in d["points"]:
+    q = c * c - c ** 4 / 4
+    a = (-q + math.sqrt(q * q + 4 * c * c * b * p["parameter"] ** 2)) / (2 * c * c * b)
+    assert abs(p["omega"] - math.sqrt(1 + b * a - c * c / 2)) < 1e-7, p
+assert [p["parameter"] for p in d["points"]].count(0.12) == 1
+PY
 
 # Contact: the issue's rigid rod case runs as written; refine validates its input.
 expect "rigid rod run" 0 "reached_lambda_bound" -- \
