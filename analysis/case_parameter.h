@@ -27,6 +27,10 @@ class CaseParameter {
   // The residual's response to a unit change of the field is linear in it (forcing
   // amplitudes): ∂R/∂p then needs no step size.
   bool IsLinear() const { return kind_ == Kind::kForcingCos || kind_ == Kind::kForcingSin; }
+  // The law's index for a law field ("nonlinearities[i]..."), −1 for a forcing term.
+  int LawIndex() const { return kind_ == Kind::kLaw ? index_ : -1; }
+  // The law's field name ("normal_load"); empty for a forcing term.
+  const std::string& field() const { return field_; }
 
  private:
   enum class Kind { kForcingCos, kForcingSin, kLaw };

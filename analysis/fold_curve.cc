@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "analysis/parameter_sensitivity.h"
 #include "analysis/point_measures.h"
 #include "analysis/trace.h"
 #include "continuation/continuation.h"
@@ -17,10 +18,9 @@
 namespace nfrc {
 namespace {
 
-// Relative steps of the central differences: δ = kParameterStep·max(|p|, p scale) for ∂/∂p,
-// h = kDirectionStep·‖y‖/‖v‖ along the null vector for ∂R_y/∂z·v. Both near
-// ε^(1/3) ≈ 6e-6, where truncation (h²) and rounding (ε/h) of a central difference balance.
-constexpr double kParameterStep = 1e-5;
+// Relative step of the central difference along the null vector for ∂R_y/∂z·v:
+// h = kDirectionStep·‖y‖/‖v‖, near ε^(1/3) ≈ 6e-6, where truncation (h²) and rounding (ε/h)
+// of a central difference balance.
 constexpr double kDirectionStep = 1e-5;
 // A fold of the branch whose (p, ω) lies within this relative distance of an earlier
 // curve's point is on that curve (a curve through a cusp joins two folds).
@@ -30,13 +30,14 @@ constexpr double kSameFold = 1e-5;
 class FoldProblem : public ContinuationProblem {
  public:
   FoldProblem(const Case& the_case, const CaseParameter& parameter, double parameter_scale)
-      : case_(the_case), parameter_(parameter), parameter_scale_(parameter_scale) {}
+      : sensitivity_(the_case, parameter, parameter_scale) {}
 
   // Sets the borders from the null vectors of R_y at (y, ω; p).
   bool Rebase(const Eigen::VectorXd& y, double omega, double p) {
     Eigen::VectorXd residual;
     Eigen::MatrixXd jacobian;
     if (!System(p).Evaluate(y, omega, &residual, &jacobian, nullptr)) return false;
+    if (groups_.empty()) groups_ = System(p).ScaleGroups();
     Eigen::BDCSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const int n = static_cast<int>(y.size());
     b_ = svd.matrixU().col(n - 1);
@@ -47,7 +48,7 @@ class FoldProblem : public ContinuationProblem {
   int NumUnknowns() const override { return NumY() + 1; }
 
   std::vector<int> ScaleGroups() const override {
-    std::vector<int> groups = Reference().ScaleGroups();
+    std::vector<int> groups = groups_;
     groups.push_back(*std::max_element(groups.begin(), groups.end()) + 1);  // ω
     return groups;
   }
@@ -86,37 +87,21 @@ class FoldProblem : public ContinuationProblem {
       (*jacobian_u)(n, n) = -w.dot(plus_omega - minus_omega) / (2.0 * h);
     }
     if (jacobian_p != nullptr) {
-      // ∂R/∂p and ∂g/∂p = −wᵀ(∂R_y/∂p)v by central differences in p (systems at p ± δ).
-      const double delta = kParameterStep * std::max(std::abs(p), parameter_scale_);
-      Eigen::VectorXd r_plus, r_minus;
-      Eigen::MatrixXd j_plus, j_minus;
-      if (!System(p + delta).Evaluate(y, omega, &r_plus, &j_plus, nullptr) ||
-          !System(p - delta).Evaluate(y, omega, &r_minus, &j_minus, nullptr)) {
-        return false;
-      }
+      // ∂R/∂p and ∂g/∂p = −wᵀ(∂R_y/∂p)v (ParameterSensitivity: exact where R is affine in p).
+      Eigen::VectorXd d_residual;
+      Eigen::MatrixXd d_jacobian;
+      if (!sensitivity_.Evaluate(p, y, omega, &d_residual, &d_jacobian)) return false;
       jacobian_p->resize(n + 1);
-      jacobian_p->head(n) = (r_plus - r_minus) / (2.0 * delta);
-      (*jacobian_p)(n) = -w.dot((j_plus - j_minus) * v) / (2.0 * delta);
+      jacobian_p->head(n) = d_residual;
+      (*jacobian_p)(n) = -w.dot(d_jacobian * v);
     }
     return true;
   }
 
-  HarmonicSystem& System(double p) {
-    auto found = systems_.find(p);
-    if (found != systems_.end()) return *found->second;
-    // Systems at the last point's p and its ± δ are what the next evaluations need.
-    if (systems_.size() >= kCachedSystems) systems_.clear();
-    auto built = BuildSystem(parameter_.With(case_, p));
-    HarmonicSystem& system = *built;
-    systems_.emplace(p, std::move(built));
-    return system;
-  }
+  HarmonicSystem& System(double p) { return sensitivity_.System(p); }
 
  private:
-  static constexpr size_t kCachedSystems = 6;
-
   int NumY() const { return static_cast<int>(b_.size()); }
-  HarmonicSystem& Reference() const { return *systems_.begin()->second; }
 
   // v, g from [[R_y, b], [cᵀ, 0]] (v, g) = (0, 1), w from the transposed system.
   bool NullVectors(const Eigen::MatrixXd& r_y, Eigen::VectorXd* v, Eigen::VectorXd* w,
@@ -137,10 +122,8 @@ class FoldProblem : public ContinuationProblem {
     return true;
   }
 
-  const Case& case_;
-  const CaseParameter& parameter_;
-  double parameter_scale_;
-  std::map<double, std::unique_ptr<HarmonicSystem>> systems_;
+  ParameterSensitivity sensitivity_;
+  std::vector<int> groups_;  // the HarmonicSystem's scale groups
   Eigen::VectorXd b_, c_;
 };
 

@@ -9,6 +9,7 @@
 
 #include "analysis/case_parameter.h"
 #include "analysis/fold_curve.h"
+#include "analysis/peak_curve.h"
 #include "tools/case_file.h"
 #include "tools/sweep.h"
 
@@ -45,6 +46,29 @@ void BenchFoldCurve(double lu_unit) {
       result.curves.size(), points, cusps);
   std::printf("  wall time %.1f ms = %.1f LU(320) (the branch trace included)\n", 1e3 * seconds,
               seconds / lu_unit);
+}
+
+// Every energy peak of the friction oscillator's branch at N = 8 followed to N = 12 (the
+// super-harmonic and primary peaks vanish on the way; see the README's peak-curve study).
+void BenchPeakCurves(double lu_unit) {
+  const CaseFile file = ReadCaseFile(Case("friction/frc_n8.json"));
+  const CaseParameter load("nonlinearities[0].normal_load", file.the_case);
+  PeakCurveOptions options;
+  options.to = 12.0;
+  const auto start = Clock::now();
+  const PeakCurveResult result = TracePeakCurves(file.the_case, load, options);
+  const double seconds = Seconds(start);
+  int points = 0, solves = 0;
+  for (const PeakCurve& curve : result.curves) {
+    points += static_cast<int>(curve.points.size());
+    solves += curve.solves;
+  }
+  std::printf(
+      "peak curves, friction/frc_n8.json (N_phi = 60), energy, normal_load 8 -> 12: %zu "
+      "curves, %d points, %d fixed-omega solves\n",
+      result.curves.size(), points, solves);
+  std::printf("  wall time %.2f s = %.0f LU(320) (the branch trace included); %.2f ms per solve\n",
+              seconds, seconds / lu_unit, 1e3 * seconds / std::max(solves, 1));
 }
 
 struct SweepTiming {
@@ -101,6 +125,7 @@ void BenchSweep(double lu_unit) {
 
 void BenchStudies(double lu_unit) {
   BenchFoldCurve(lu_unit);
+  BenchPeakCurves(lu_unit);
   BenchSweep(lu_unit);
 }
 
