@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "analysis/case_parameter.h"
+#include "analysis/event_curve.h"
 #include "analysis/fold_curve.h"
-#include "analysis/peak_curve.h"
 #include "tools/case_file.h"
 #include "tools/sweep.h"
 
@@ -53,13 +53,13 @@ void BenchFoldCurve(double lu_unit) {
 void BenchPeakCurves(double lu_unit) {
   const CaseFile file = ReadCaseFile(Case("friction/frc_n8.json"));
   const CaseParameter load("nonlinearities[0].normal_load", file.the_case);
-  PeakCurveOptions options;
+  EventCurveOptions options;
   options.to = 12.0;
   const auto start = Clock::now();
-  const PeakCurveResult result = TracePeakCurves(file.the_case, load, options);
+  const EventCurveResult result = TracePeakCurves(file.the_case, load, options);
   const double seconds = Seconds(start);
   int points = 0, solves = 0;
-  for (const PeakCurve& curve : result.curves) {
+  for (const EventCurve& curve : result.curves) {
     points += static_cast<int>(curve.points.size());
     solves += curve.solves;
   }
@@ -69,6 +69,28 @@ void BenchPeakCurves(double lu_unit) {
       result.curves.size(), points, solves);
   std::printf("  wall time %.2f s = %.0f LU(320) (the branch trace included); %.2f ms per solve\n",
               seconds, seconds / lu_unit, 1e3 * seconds / std::max(solves, 1));
+}
+
+// Both Neimark–Sacker points of the NES oscillator followed in the forcing from 0.005 to 0.01.
+void BenchNeimarkSackerCurves(double lu_unit) {
+  const CaseFile file = ReadCaseFile(Case("nes_neimark_sacker.json"));
+  const CaseParameter forcing("model.forcing[0].cos", file.the_case);
+  EventCurveOptions options;
+  options.to = 0.01;
+  const auto start = Clock::now();
+  const EventCurveResult result = TraceNeimarkSackerCurves(file.the_case, forcing, options);
+  const double seconds = Seconds(start);
+  int points = 0, solves = 0;
+  for (const EventCurve& curve : result.curves) {
+    points += static_cast<int>(curve.points.size());
+    solves += curve.solves;
+  }
+  std::printf(
+      "Neimark-Sacker curves, nes_neimark_sacker.json, forcing 0.005 -> 0.01: %zu curves, %d "
+      "points, %d fixed-omega solves with Hill's method\n",
+      result.curves.size(), points, solves);
+  std::printf("  wall time %.1f ms = %.1f LU(320) (the branch trace with stability included)\n",
+              1e3 * seconds, seconds / lu_unit);
 }
 
 struct SweepTiming {
@@ -126,6 +148,7 @@ void BenchSweep(double lu_unit) {
 void BenchStudies(double lu_unit) {
   BenchFoldCurve(lu_unit);
   BenchPeakCurves(lu_unit);
+  BenchNeimarkSackerCurves(lu_unit);
   BenchSweep(lu_unit);
 }
 

@@ -36,6 +36,7 @@
 //      points, Newton, time and accuracy of ln E against a tenth of the step;
 //  12. parameter studies (tools/bench_studies.h): Duffing's fold curve in the forcing through
 //      the cusp, the Fig. 7 oscillator's energy peaks followed in the normal load from 8 to 12,
+//      the NES oscillator's Neimark-Sacker points in the forcing,
 //      and a 32-branch sweep of the Fig. 7 oscillator in the normal load with one
 //      and two threads (time per branch, speed-up, efficiency, equal results).
 #include <Eigen/Sparse>

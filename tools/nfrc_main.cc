@@ -10,14 +10,14 @@
 #include <vector>
 
 #include "analysis/case_parameter.h"
+#include "analysis/event_curve.h"
 #include "analysis/fold_curve.h"
-#include "analysis/peak_curve.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
 #include "tools/command_line.h"
+#include "tools/event_curve_writer.h"
 #include "tools/fold_curve_writer.h"
 #include "tools/output_files.h"
-#include "tools/peak_curve_writer.h"
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
 #include "tools/stop_signal.h"
@@ -51,12 +51,14 @@ constexpr const char* kUsage =
     "                                 follow each fold of the branch in (PATH, omega), e.g.\n"
     "                                 PATH model.forcing[0].cos or nonlinearities[0].gap\n"
     "                                 (DIR/fold_curve.json)\n"
-    "  nfrc fold-curve CASE.json --kind peak --parameter PATH --to VALUE --out DIR\n"
-    "              [--measure energy|h1:OUT|max_abs:OUT] [--near W] [--at P1,P2,...]\n"
+    "  nfrc fold-curve CASE.json --kind peak|neimark_sacker --parameter PATH --to VALUE\n"
+    "              --out DIR [--measure energy|h1:OUT|max_abs:OUT] [--near W] [--at P1,P2,...]\n"
     "              [--max-step F]\n"
     "                                 follow each maximum of the measure along omega in PATH\n"
     "                                 (steps at most F |VALUE - from|, landing on each Pi)\n"
-    "                                 (DIR/peak_curve.json)\n"
+    "                                 (DIR/peak_curve.json); neimark_sacker: each\n"
+    "                                 Neimark-Sacker point, --measure only reported\n"
+    "                                 (DIR/neimark_sacker_curve.json)\n"
     "  nfrc sweep CASE.json --parameter PATH (--values V1,V2,... | --range FROM:TO:COUNT)\n"
     "              --out DIR [--jobs N]\n"
     "                                 one branch per value in DIR/<k>/, DIR/sweep.json\n"
@@ -156,13 +158,14 @@ int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   throw error;
 }
 
-int PeakCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::string& path,
-              double to, const nfrc::StopSignal& stop) {
+// `nfrc fold-curve --kind peak|neimark_sacker`.
+int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::string& path,
+               double to, const std::string& kind, const nfrc::StopSignal& stop) {
   using nfrc::NumberDomain;
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
   const nfrc::CaseParameter parameter(path, the_case);
-  nfrc::PeakCurveOptions options;
+  nfrc::EventCurveOptions options;
   options.to = to;
   try {
     options.measure = nfrc::ParsePeakMeasure(line.Value("--measure").value_or("energy"), the_case);
@@ -185,22 +188,25 @@ int PeakCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::st
   options.progress = &std::cerr;
   options.stop = &stop.flag();
   const nfrc::OutputDirectoryLock lock(io.out_dir);
-  nfrc::PeakCurveWriter writer(io.out_dir, parameter.path(), from, to, options.measure.name,
-                               file.source);
+  const std::string file_name = kind + "_curve.json";
+  nfrc::EventCurveWriter writer(io.out_dir + "/" + file_name, parameter.path(), from, to,
+                                options.measure.name, file.source);
   options.observer = &writer;
-  const nfrc::PeakCurveResult result = nfrc::TracePeakCurves(the_case, parameter, options);
+  const nfrc::EventCurveResult result =
+      kind == "peak" ? nfrc::TracePeakCurves(the_case, parameter, options)
+                     : nfrc::TraceNeimarkSackerCurves(the_case, parameter, options);
   writer.Finish(result);
   bool complete = !result.curves.empty();
   for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
   for (size_t i = 0; i < result.curves.size(); ++i) {
-    const nfrc::PeakCurve& curve = result.curves[i];
-    std::cerr << "nfrc: peak " << i << " (omega=" << curve.start_omega
+    const nfrc::EventCurve& curve = result.curves[i];
+    std::cerr << "nfrc: " << kind << " " << i << " (omega=" << curve.start_omega
               << "): " << nfrc::ToString(curve.end) << ", " << curve.points.size() << " points, "
               << curve.solves << " solves" << (curve.message.empty() ? "" : ": " + curve.message)
               << "\n";
-    complete = complete && curve.end == nfrc::PeakCurveEnd::kReachedTo;
+    complete = complete && curve.end == nfrc::EventCurveEnd::kReachedTo;
   }
-  std::cerr << "nfrc: wrote " << io.out_dir << "/peak_curve.json\n";
+  std::cerr << "nfrc: wrote " << io.out_dir << "/" << file_name << "\n";
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
 
@@ -216,12 +222,13 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   const std::optional<std::string> path = line.Value("--parameter");
   const std::optional<double> to = line.Number("--to");
   if (!path || !to) throw line.Error("needs --parameter PATH and --to VALUE");
-  // Neimark-Sacker curves are not built yet: the choice says what is.
-  if (line.Choice("--kind", {"fold", "peak"}).value_or("fold") == "peak") {
-    return PeakCurve(line, io, *path, *to, stop);
-  }
+  const std::string kind =
+      line.Choice("--kind", {"fold", "peak", "neimark_sacker"}).value_or("fold");
+  if (kind != "fold") return EventCurve(line, io, *path, *to, kind, stop);
   for (const char* option : {"--measure", "--near", "--at"}) {
-    if (line.Value(option)) throw line.Error(std::string(option) + " needs --kind peak");
+    if (line.Value(option)) {
+      throw line.Error(std::string(option) + " needs --kind peak or neimark_sacker");
+    }
   }
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;

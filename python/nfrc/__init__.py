@@ -21,7 +21,7 @@ from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, Dlf
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
-           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "peak_curve", "solve_at",
+           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "neimark_sacker_curve", "peak_curve", "solve_at",
            "sweep", "switch_branch",
            "trace",
            "__version__"]
@@ -268,12 +268,23 @@ def peak_curve(case, parameter, to, measure="energy", near=None, at=(), max_step
     OUT an output DOF's name) on the case's branch in `parameter` towards `to`: the resonance
     peaks where friction leaves no fold. `near`: only the peak nearest this omega; `at`:
     parameter values every curve lands on; steps are at most max_step |to - from|. Returns a
-    dict: "parameter", "from", "to", "measure", "branch_peaks", "notes", "interrupted" and
+    dict: "parameter", "from", "to", "measure", "branch_events", "notes", "interrupted" and
     "curves", each with "start_omega", "termination" ("reached_to", "vanished", ...),
     "message", "solves" and the lists "parameter", "omega", "measure"."""
-    return _nfrc._peak_curve(case, str(parameter), float(to), str(measure),
-                             float("nan") if near is None else float(near),
-                             [float(v) for v in at], float(max_step), bool(progress))
+    return _nfrc._event_curve(case, "peak", str(parameter), float(to), str(measure),
+                              float("nan") if near is None else float(near),
+                              [float(v) for v in at], float(max_step), bool(progress))
+
+
+def neimark_sacker_curve(case, parameter, to, measure="energy", near=None, at=(),
+                         max_step=0.1, progress=False):
+    """Follows each Neimark-Sacker point of the case's branch (the case needs its stability
+    analysis) in `parameter` towards `to`: where the largest complex pair of Floquet
+    multipliers has |mu| = 1. `measure` is reported at the points; the rest and the returned
+    dict as for peak_curve."""
+    return _nfrc._event_curve(case, "neimark_sacker", str(parameter), float(to), str(measure),
+                              float("nan") if near is None else float(near),
+                              [float(v) for v in at], float(max_step), bool(progress))
 
 
 def sweep(case, parameter, values, progress=False):

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "analysis/case_parameter.h"
-#include "analysis/peak_curve.h"
+#include "analysis/event_curve.h"
 #include "bindings.h"
 
 namespace nfrc::python {
@@ -72,12 +72,13 @@ void BindFoldCurve(py::module_& m) {
       "case"_a, "parameter"_a, "to"_a, "max_step"_a = 0.1, "progress"_a = false);
 
   m.def(
-      "_peak_curve",
-      [](const PyCase& c, const std::string& path, double to, const std::string& measure,
-         double near, const std::vector<double>& at, double max_step, bool progress) {
+      "_event_curve",
+      [](const PyCase& c, const std::string& kind, const std::string& path, double to,
+         const std::string& measure, double near, const std::vector<double>& at,
+         double max_step, bool progress) {
         const Case the_case = c.value;
         const CaseParameter parameter(path, the_case);
-        PeakCurveOptions options;
+        EventCurveOptions options;
         options.to = to;
         options.measure = ParsePeakMeasure(measure, the_case);
         options.near = near;
@@ -88,16 +89,17 @@ void BindFoldCurve(py::module_& m) {
         options.progress = progress ? &std::cerr : nullptr;
         InterruptWatch watch;
         options.poll = [&watch] { return watch.Poll(); };
-        PeakCurveResult result;
+        EventCurveResult result;
         {
           py::gil_scoped_release release;
-          result = TracePeakCurves(the_case, parameter, options);
+          result = kind == "peak" ? TracePeakCurves(the_case, parameter, options)
+                                  : TraceNeimarkSackerCurves(the_case, parameter, options);
         }
         const bool interrupted = watch.Finish();
         py::list curves;
-        for (const PeakCurve& curve : result.curves) {
+        for (const EventCurve& curve : result.curves) {
           py::list parameter_values, omega, values;
-          for (const PeakCurvePoint& point : curve.points) {
+          for (const EventCurvePoint& point : curve.points) {
             parameter_values.append(point.parameter);
             omega.append(point.omega);
             values.append(point.measure);
@@ -109,10 +111,10 @@ void BindFoldCurve(py::module_& m) {
         }
         return py::dict("parameter"_a = result.parameter, "from"_a = result.from,
                         "to"_a = result.to, "measure"_a = result.measure,
-                        "branch_peaks"_a = result.branch_peaks, "notes"_a = result.notes,
+                        "branch_events"_a = result.branch_events, "notes"_a = result.notes,
                         "curves"_a = curves, "interrupted"_a = interrupted);
       },
-      "case"_a, "parameter"_a, "to"_a, "measure"_a = "energy",
+      "case"_a, "kind"_a, "parameter"_a, "to"_a, "measure"_a = "energy",
       "near"_a = std::numeric_limits<double>::quiet_NaN(), "at"_a = std::vector<double>{},
       "max_step"_a = 0.1, "progress"_a = false);
 

@@ -117,3 +117,17 @@ def test_peak_curve_stops_on_ctrl_c_and_keeps_its_curves():
     assert time.monotonic() - started < 30.0
     for curve in result["curves"]:
         assert curve["termination"] == "stopped"
+
+
+def test_neimark_sacker_curve_lands_on_the_fixed_forcing_bifurcations():
+    # The bifurcations of a trace at P = 0.01 are localised independently (to 1e-6 in omega).
+    case = nfrc.load_case(os.path.join(CASES, "nes_neimark_sacker.json"))
+    result = nfrc.neimark_sacker_curve(case, "model.forcing[0].cos", 0.01)
+    assert result["branch_events"] == 2 and len(result["curves"]) == 2
+    case.forcing[0] = nfrc.Forcing(dof=0, cos=0.01)
+    branch = nfrc.trace(case)
+    reference = sorted(b.omega for b in branch.bifurcations if b.type == "neimark_sacker")
+    ends = sorted(curve["omega"][-1] for curve in result["curves"])
+    assert [curve["parameter"][-1] for curve in result["curves"]] == [0.01, 0.01]
+    for omega, expected in zip(ends, reference):
+        assert abs(omega - expected) < 5e-6 * expected

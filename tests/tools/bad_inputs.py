@@ -292,8 +292,8 @@ command("fold_curve_to_nan", ["fold-curve", duffing, "--out", out, "--parameter"
                               "model.forcing[0].cos", "--to", "nan"], EXIT_USAGE, "--to")
 command("fold_curve_to_from", ["fold-curve", duffing, "--out", out, "--parameter",
                                "model.forcing[0].cos", "--to", "0.18"], EXIT_INPUT, "to")
-command("fold_curve_kind_ns", ["fold-curve", duffing, "--out", out, "--parameter",
-                               "model.forcing[0].cos", "--to", "0.1", "--kind", "neimark_sacker"],
+command("fold_curve_kind_hopf", ["fold-curve", duffing, "--out", out, "--parameter",
+                               "model.forcing[0].cos", "--to", "0.1", "--kind", "hopf"],
         EXIT_USAGE, "--kind")
 command("peak_curve_bad_measure", ["fold-curve", duffing, "--out", out, "--kind", "peak",
                                     "--parameter", "model.forcing[0].cos", "--to", "0.1",

@@ -50,7 +50,7 @@ grep -q "nfrc: peak 0 point" "$work/err" || { echo "FAIL peak curve progress"; f
 /usr/bin/python3 - "$work/pc/peak_curve.json" <<'PY' || { echo "FAIL peak_curve.json"; failures=$((failures + 1)); }
 import json, math, sys
 d = json.load(open(sys.argv[1]))
-assert d["measure"] == "h1_0" and d["branch_peaks"] == 1 and d["from"] == 0.18
+assert d["measure"] == "h1_0" and d["branch_events"] == 1 and d["from"] == 0.18
 (curve,) = d["curves"]
 assert curve["termination"] == "reached_to", curve
 # The one-harmonic maximum: k - w^2 + b A^2 = c^2/2, (c^4/4 + c^2 w^2) A^2 = P^2 (c 0.05, b 0.075).
@@ -60,6 +60,18 @@ for p in d["points"]:
     a = (-q + math.sqrt(q * q + 4 * c * c * b * p["parameter"] ** 2)) / (2 * c * c * b)
     assert abs(p["omega"] - math.sqrt(1 + b * a - c * c / 2)) < 1e-7, p
 assert [p["parameter"] for p in d["points"]].count(0.12) == 1
+PY
+expect "nes neimark-sacker curve" 0 "wrote $work/ns/neimark_sacker_curve.json" -- "$nfrc" \
+  fold-curve "$src/cases/nes_neimark_sacker.json" --kind neimark_sacker \
+  --parameter "model.forcing[0].cos" --to 0.01 --out "$work/ns"
+/usr/bin/python3 - "$work/ns/neimark_sacker_curve.json" <<'PY' || { echo "FAIL neimark_sacker_curve.json"; failures=$((failures + 1)); }
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["branch_events"] == 2 and len(d["curves"]) == 2, d["curves"]
+assert all(c["termination"] == "reached_to" for c in d["curves"])
+ends = sorted(p["omega"] for p in d["points"] if p["parameter"] == 0.01)
+# The fixed-forcing trace at P = 0.01 localises them at 0.955933 and 1.05962.
+assert abs(ends[0] - 0.955933) < 1e-5 and abs(ends[1] - 1.05962) < 1e-5, ends
 PY
 
 # Contact: the issue's rigid rod case runs as written; refine validates its input.

@@ -1,4 +1,4 @@
-#include "tools/peak_curve_writer.h"
+#include "tools/event_curve_writer.h"
 
 #include <filesystem>
 #include <utility>
@@ -7,9 +7,9 @@
 
 namespace nfrc {
 
-PeakCurveWriter::PeakCurveWriter(std::string dir, const std::string& parameter, double from,
-                                 double to, const std::string& measure, nlohmann::json source)
-    : path_(std::move(dir) + "/peak_curve.json"), measure_(measure) {
+EventCurveWriter::EventCurveWriter(std::string path, const std::string& parameter, double from,
+                                   double to, const std::string& measure, nlohmann::json source)
+    : path_(std::move(path)), measure_(measure) {
   std::filesystem::create_directories(std::filesystem::path(path_).parent_path());
   document_["parameter"] = parameter;
   document_["from"] = from;
@@ -21,9 +21,9 @@ PeakCurveWriter::PeakCurveWriter(std::string dir, const std::string& parameter, 
   Write();
 }
 
-void PeakCurveWriter::OnCurve(const PeakCurve& curve) {
+void EventCurveWriter::OnCurve(const EventCurve& curve) {
   const int index = curves_++;
-  for (const PeakCurvePoint& point : curve.points) {
+  for (const EventCurvePoint& point : curve.points) {
     document_["points"].push_back({{"curve", index},
                                    {"parameter", point.parameter},
                                    {"omega", point.omega},
@@ -40,12 +40,12 @@ void PeakCurveWriter::OnCurve(const PeakCurve& curve) {
   Write();
 }
 
-void PeakCurveWriter::Finish(const PeakCurveResult& result) {
-  document_["branch_peaks"] = result.branch_peaks;
+void EventCurveWriter::Finish(const EventCurveResult& result) {
+  document_["branch_events"] = result.branch_events;
   document_["notes"] = result.notes;
   Write();
 }
 
-void PeakCurveWriter::Write() { WriteJsonAtomically(path_, document_); }
+void EventCurveWriter::Write() { WriteJsonAtomically(path_, document_); }
 
 }  // namespace nfrc

@@ -31,27 +31,28 @@ PeakMeasure ParsePeakMeasure(const std::string& text, const Case& the_case);
 double EvaluatePeakMeasure(const PeakMeasure& measure, HarmonicSystem& system,
                            PointAnalyzer& analyzer, const Eigen::VectorXd& y, double omega);
 
-struct PeakCurve;
+struct EventCurve;
 
-// Receives each peak curve as soon as it ends (a writer keeps what was found on disk).
-class PeakCurveObserver {
+// Receives each curve as soon as it ends (a writer keeps what was found on disk).
+class EventCurveObserver {
  public:
-  virtual ~PeakCurveObserver() = default;
-  virtual void OnCurve(const PeakCurve& curve) = 0;
+  virtual ~EventCurveObserver() = default;
+  virtual void OnCurve(const EventCurve& curve) = 0;
 };
 
-// Resonance peaks of a case's branch (local maxima of a measure along ω) followed in a
-// parameter: where friction removes the folds, the peaks are what a damper is designed by.
-struct PeakCurveOptions {
+// Events of a case's branch followed in a parameter: resonance peaks (local maxima of a
+// measure along ω; where friction removes the folds, the peaks are what a damper is designed
+// by) or Neimark–Sacker points.
+struct EventCurveOptions {
   double to = 0.0;      // value of the parameter the curves are followed towards
-  PeakMeasure measure;  // default: the period-mean energy
-  // Follow only the branch's peak nearest this ω (rad per time unit); NaN: every peak.
+  PeakMeasure measure;  // peaks: whose maxima; both: reported at the points (default energy)
+  // Follow only the branch's event nearest this ω (rad per time unit); NaN: every one.
   double near = std::numeric_limits<double>::quiet_NaN();
   // Parameter values strictly between the case's and `to` that every curve lands on exactly
   // (to compare with single runs there).
   std::vector<double> stations;
   // Parameter steps as fractions of |to − from|: the first, the largest, and the smallest
-  // before a curve that cannot go on ends (its peak vanished or moved out of reach).
+  // before a curve that cannot go on ends (its event vanished or moved out of reach).
   double initial_step = 0.02;
   double max_step = 0.1;
   double min_step = 1e-4;
@@ -61,52 +62,61 @@ struct PeakCurveOptions {
   // Called after every point of the branch and of the curves; false stops as `stop` does
   // (Python checks its signals here). Empty: not called.
   std::function<bool()> poll;
-  PeakCurveObserver* observer = nullptr;
+  EventCurveObserver* observer = nullptr;
 
   // Throws InputError naming "to", "near", "stations", "initial_step", "max_step", "min_step"
   // or "max_points".
   void Validate(double from) const;
 };
 
-// The maximum of the measure along ω at one parameter value.
-struct PeakCurvePoint {
+// The event (a maximum of the measure along ω, or a Neimark–Sacker point) at one parameter
+// value.
+struct EventCurvePoint {
   double parameter = 0.0;
   double omega = 0.0;    // rad per time unit
-  double measure = 0.0;  // at the maximum
+  double measure = 0.0;  // there
   Eigen::VectorXd y;     // the HarmonicSystem's unknowns there
   int solves = 0;        // fixed-ω Newton solves spent on this point
 };
 
-enum class PeakCurveEnd {
+enum class EventCurveEnd {
   kReachedTo,  // the curve reached `to`
-  kVanished,   // no maximum near the last one beyond the smallest step: it merged with a
-               // minimum (or jumped further than a step can follow)
+  kVanished,   // no event near the last one beyond the smallest step: a peak merged with a
+               // minimum, Neimark–Sacker points met (or it moved further than a step follows)
   kMaxPoints,
   kStopped,      // the stop flag was raised
-  kStartFailed,  // the peak could not be located on the branch
+  kStartFailed,  // the event could not be located on the branch
 };
 
-const char* ToString(PeakCurveEnd end);
+const char* ToString(EventCurveEnd end);
 
-struct PeakCurve {
-  int start_point = 0;                 // index of the branch point nearest the peak
-  double start_omega = 0.0;            // ω of the located peak at the case's parameter value
-  std::vector<PeakCurvePoint> points;  // in order from the case's value towards `to`
-  PeakCurveEnd end = PeakCurveEnd::kStartFailed;
+struct EventCurve {
+  int start_point = 0;       // index of the branch point nearest (peak) or before (N–S) it
+  double start_omega = 0.0;  // ω of the located event at the case's parameter value
+  std::vector<EventCurvePoint> points;  // in order from the case's value towards `to`
+  EventCurveEnd end = EventCurveEnd::kStartFailed;
   std::string message;
   int solves = 0;
   double seconds = 0.0;
 };
 
-struct PeakCurveResult {
+struct EventCurveResult {
   std::string parameter;  // the path
   double from = 0.0;      // its value in the case
   double to = 0.0;
-  std::string measure;   // PeakMeasure::name
-  int branch_peaks = 0;  // local maxima of the measure among the branch's points
-  std::vector<PeakCurve> curves;
-  std::vector<std::string> notes;  // peaks not followed and why
+  std::string measure;    // PeakMeasure::name
+  int branch_events = 0;  // local maxima among the branch's points, or its N–S points
+  std::vector<EventCurve> curves;
+  std::vector<std::string> notes;  // events not followed and why
 };
+
+// Follows each Neimark–Sacker point of the case's branch (traced with its stability) in the
+// parameter: the ω where the largest complex pair of Hill's multipliers has |μ| = 1, bracketed
+// and refined on log|μ| over fixed-ω solves exactly as peaks are (no derivatives of the
+// multipliers). Needs stability.enabled; `measure` is only reported at the points. Throws
+// InputError as TracePeakCurves.
+EventCurveResult TraceNeimarkSackerCurves(const Case& the_case, const CaseParameter& parameter,
+                                          const EventCurveOptions& options);
 
 // Traces the case's branch, locates each local maximum of the measure between its points as a
 // zero of dm/dω = ∇m·(dy/dω, 1) with dy/dω = −R_y⁻¹R_ω (bracketed secant over fixed-ω Newton
@@ -114,7 +124,7 @@ struct PeakCurveResult {
 // then steps the parameter, predicting the peak by extrapolation and bracketing it again.
 // Peaks beside a fold of the branch are left to fold curves (noted). Throws InputError for bad
 // input (the case, the parameter, the options, a `to` the case rejects).
-PeakCurveResult TracePeakCurves(const Case& the_case, const CaseParameter& parameter,
-                                const PeakCurveOptions& options);
+EventCurveResult TracePeakCurves(const Case& the_case, const CaseParameter& parameter,
+                                 const EventCurveOptions& options);
 
 }  // namespace nfrc

@@ -1,14 +1,16 @@
-#include "analysis/peak_curve.h"
+#include "analysis/event_curve.h"
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <memory>
 #include <ostream>
 #include <sstream>
 #include <utility>
 
+#include "analysis/bifurcation.h"
 #include "analysis/trace.h"
 #include "continuation/fixed_lambda.h"
 #include "core/errors.h"
@@ -35,6 +37,9 @@ constexpr double kMinReach = 5e-3;
 constexpr double kStepGrowth = 1.5;
 // Reciprocal condition number of R_y below which dy/dω is not computed: the point is at a fold.
 constexpr double kSingular = 1e-13;
+// A multiplier is of a complex pair when |Im μ| exceeds this fraction of |μ| (real ones come
+// out of Hill's eigenproblem with imaginary parts of rounding size).
+constexpr double kComplexPart = 1e-6;
 constexpr double kLandingReach = 1.25;
 // On a nonsmooth branch the top of a resonance can hold several local maxima ~1e-4 apart in ω
 // (the slope jumps where samples switch between stick and slip): kProbes probes each side
@@ -49,6 +54,12 @@ constexpr int kEasySolves = 2 * kProbes + 10;
 // vanished (a friction damper stuck throughout): its ω is rounding, so the curve ends.
 constexpr double kVanishedMeasure = 1e-9;
 
+enum class EventKind { kPeak, kNeimarkSacker };
+
+const char* EventName(EventKind kind) {
+  return kind == EventKind::kPeak ? "peak" : "neimark_sacker";
+}
+
 std::string Format(double value) {
   std::ostringstream out;
   out.precision(8);
@@ -62,17 +73,22 @@ struct Sample {
   Eigen::VectorXd y;
   Eigen::VectorXd dy;  // dy/dω = −R_y⁻¹R_ω
   double measure = 0.0;
-  double slope = 0.0;
+  // The event function: dm/dω for peaks (a maximum where it falls through 0), log|μ| of the
+  // largest complex pair of Floquet multipliers for Neimark–Sacker points (0 on the circle).
+  double event = 0.0;
 };
 
 // The system at one parameter value and the fixed-ω solves on it.
-class PeakSolver {
+class EventSolver {
  public:
-  PeakSolver(Case at_parameter, const PeakMeasure& measure)
+  EventSolver(Case at_parameter, EventKind kind, const PeakMeasure& measure)
       : case_(std::move(at_parameter)),
+        kind_(kind),
         system_(BuildSystem(case_)),
         analyzer_(*system_, case_.output_dofs),
         measure_(measure) {}
+
+  EventKind kind() const { return kind_; }
 
   // Newton at fixed ω from `guess`, then the sample there; false (message()) if it fails.
   bool At(double omega, const Eigen::VectorXd& guess, const Eigen::VectorXd& typical,
@@ -105,10 +121,11 @@ class PeakSolver {
     sample->dy = -lu.solve(r_omega);
     const double h = kSlopeStep * std::max(std::abs(omega), 1e-300);
     sample->measure = Measure(y, omega);
-    sample->slope =
+    if (kind_ == EventKind::kNeimarkSacker) return NeimarkSacker(omega, y, sample);
+    sample->event =
         (Measure(y + h * sample->dy, omega + h) - Measure(y - h * sample->dy, omega - h)) /
         (2.0 * h);
-    if (!std::isfinite(sample->slope) || !sample->dy.allFinite()) {
+    if (!std::isfinite(sample->event) || !sample->dy.allFinite()) {
       message_ = "dm/domega is not finite at omega=" + Format(omega);
       return false;
     }
@@ -123,28 +140,57 @@ class PeakSolver {
     return EvaluatePeakMeasure(measure_, *system_, analyzer_, y, omega);
   }
 
+  // log|μ| of the largest complex pair of Hill's multipliers.
+  bool NeimarkSacker(double omega, const Eigen::VectorXd& y, Sample* sample) {
+    if (!monitor_) {
+      monitor_ = std::make_unique<StabilityMonitor>(*system_, case_.stability, case_.continuation);
+    }
+    const FloquetResult floquet = monitor_->Analyze(y, omega);
+    if (!floquet.computed) {
+      message_ = "Hill's method failed at omega=" + Format(omega) + ": " + floquet.message;
+      return false;
+    }
+    double largest = 0.0;
+    for (const std::complex<double>& mu : floquet.multipliers) {
+      if (std::abs(mu.imag()) > kComplexPart * std::abs(mu))
+        largest = std::max(largest, std::abs(mu));
+    }
+    if (!(largest > 0.0)) {
+      message_ = "no complex pair of multipliers at omega=" + Format(omega);
+      return false;
+    }
+    sample->event = std::log(largest);
+    return true;
+  }
+
   Case case_;
+  EventKind kind_;
   std::unique_ptr<HarmonicSystem> system_;
+  std::unique_ptr<StabilityMonitor> monitor_;  // Neimark–Sacker: made at the first sample
   PointAnalyzer analyzer_;
   const PeakMeasure& measure_;
   int solves_ = 0;
   std::string message_;
 };
 
-// The zero of dm/dω between `rising` (slope > 0) and `falling` (slope ≤ 0), a maximum, by
-// regula falsi with the Illinois modification (superlinear where the slope is smooth), with a
-// bisection whenever two iterations did not halve the bracket (where the slope jumps, as it
-// does where a nonsmooth law switches, regula falsi alone crawls).
-bool Refine(PeakSolver& solver, Sample rising, Sample falling, Sample* peak, std::string* why) {
-  double f_rising = rising.slope, f_falling = falling.slope;
+// The zero of the event between `rising` (event > 0) and `falling` (event ≤ 0) — for peaks a
+// maximum — by regula falsi with the Illinois modification (superlinear where the event is
+// smooth), with a bisection whenever two iterations did not halve the bracket (where it jumps,
+// as dm/dω does where a nonsmooth law switches, regula falsi alone crawls).
+bool Refine(EventSolver& solver, Sample rising, Sample falling, Sample* peak, std::string* why) {
+  double f_rising = rising.event, f_falling = falling.event;
   int kept = 0;  // +1: the rising end was kept last time, −1: the falling end
   double width_before = std::numeric_limits<double>::infinity();  // two iterations ago
   double width_last = width_before;
   for (int iteration = 0; iteration < kMaxRefineIterations; ++iteration) {
     const double width = std::abs(falling.omega - rising.omega);
     const double scale = std::max(std::abs(rising.omega), std::abs(falling.omega));
-    if (falling.slope == 0.0 || width <= kOmegaTolerance * scale) {
-      *peak = falling.measure >= rising.measure ? falling : rising;
+    if (falling.event == 0.0 || width <= kOmegaTolerance * scale) {
+      // A peak: the higher end; a Neimark–Sacker point: the end nearer the unit circle.
+      const bool take_falling = solver.kind() == EventKind::kPeak
+                                    ? falling.measure >= rising.measure
+                                    : std::abs(falling.event) <= std::abs(rising.event);
+      *peak = take_falling ? falling : rising;
       return true;
     }
     const double lo = std::min(rising.omega, falling.omega);
@@ -161,14 +207,14 @@ bool Refine(PeakSolver& solver, Sample rising, Sample falling, Sample* peak, std
       *why = solver.message();
       return false;
     }
-    if (next.slope > 0.0) {
+    if (next.event > 0.0) {
       rising = std::move(next);
-      f_rising = rising.slope;
+      f_rising = rising.event;
       if (kept == +1) f_falling *= 0.5;
       kept = -1;
     } else {
       falling = std::move(next);
-      f_falling = falling.slope;
+      f_falling = falling.event;
       if (kept == -1) f_rising *= 0.5;
       kept = +1;
     }
@@ -179,7 +225,7 @@ bool Refine(PeakSolver& solver, Sample rising, Sample falling, Sample* peak, std
 }
 
 // Moves a located maximum to the highest one within the cluster window around it.
-bool Polish(PeakSolver& solver, Sample* peak, std::string* why) {
+bool Polish(EventSolver& solver, Sample* peak, std::string* why) {
   for (int round = 0; round < kPolishRounds; ++round) {
     const double delta = kClusterWindow * std::abs(peak->omega) / kProbes;
     std::vector<Sample> probes = {*peak};  // in increasing ω
@@ -204,9 +250,9 @@ bool Polish(PeakSolver& solver, Sample* peak, std::string* why) {
                          [](const Sample& a, const Sample& b) { return a.measure < b.measure; });
     if (highest->measure <= peak->measure) return true;
     const size_t j = static_cast<size_t>(highest - probes.begin());
-    if (highest->slope > 0.0 && j + 1 < probes.size() && probes[j + 1].slope <= 0.0) {
+    if (highest->event > 0.0 && j + 1 < probes.size() && probes[j + 1].event <= 0.0) {
       if (!Refine(solver, probes[j], probes[j + 1], peak, why)) return false;
-    } else if (highest->slope <= 0.0 && j > 0 && probes[j - 1].slope > 0.0) {
+    } else if (highest->event <= 0.0 && j > 0 && probes[j - 1].event > 0.0) {
       if (!Refine(solver, probes[j - 1], probes[j], peak, why)) return false;
     } else {
       *peak = *highest;  // at the window's edge, still rising: the next round goes on from it
@@ -215,30 +261,43 @@ bool Polish(PeakSolver& solver, Sample* peak, std::string* why) {
   return true;
 }
 
-// Refine, then Polish.
-bool Locate(PeakSolver& solver, const Sample& rising, const Sample& falling, Sample* peak,
-            std::string* why) {
-  return Refine(solver, rising, falling, peak, why) && Polish(solver, peak, why);
+// Refine a bracket (ends in either order), then, for peaks, Polish.
+bool Locate(EventSolver& solver, const Sample& a, const Sample& b, Sample* peak, std::string* why) {
+  const bool a_rises = a.event > 0.0;
+  if (!Refine(solver, a_rises ? a : b, a_rises ? b : a, peak, why)) return false;
+  return solver.kind() != EventKind::kPeak || Polish(solver, peak, why);
 }
 
-// The maximum nearest ω_pred on `solver`'s system: bracketed by walking uphill from the
-// prediction with doubling steps, then refined.
-bool Bracket(PeakSolver& solver, double omega_pred, const Eigen::VectorXd& y_pred,
-             const PeakCurvePoint& last, Sample* peak, std::string* why) {
+// The event nearest ω_pred on `solver`'s system: bracketed by walking from the prediction with
+// doubling steps — uphill for a peak, towards the smaller |event| (decided by a first trial
+// above the prediction) for a Neimark–Sacker point — then refined.
+bool Bracket(EventSolver& solver, double omega_pred, const Eigen::VectorXd& y_pred,
+             const EventCurvePoint& last, Sample* peak, std::string* why) {
   Sample start;
   if (!solver.At(omega_pred, y_pred, last.y, &start)) {
     *why = solver.message();
     return false;
   }
-  if (start.slope == 0.0) {
+  if (start.event == 0.0) {
     *peak = start;
     return true;
   }
-  const double direction = start.slope > 0.0 ? 1.0 : -1.0;
   const double reach =
       std::max(kReachFactor * std::abs(omega_pred - last.omega), kMinReach * std::abs(last.omega));
   double width = std::max(std::abs(omega_pred - last.omega), kMinBracket * std::abs(last.omega));
+  double direction = start.event > 0.0 ? 1.0 : -1.0;
   Sample previous = start;
+  if (solver.kind() == EventKind::kNeimarkSacker) {
+    Sample above;
+    const double omega = omega_pred + width;
+    if (!solver.At(omega, start.y + start.dy * width, start.y, &above)) {
+      *why = solver.message();
+      return false;
+    }
+    if (above.event * start.event <= 0.0) return Locate(solver, start, above, peak, why);
+    direction = std::abs(above.event) < std::abs(start.event) ? 1.0 : -1.0;
+    if (direction > 0.0) previous = std::move(above);
+  }
   int failures = 0;
   while (std::abs(previous.omega + direction * width - omega_pred) <= reach) {
     const double omega = previous.omega + direction * width;
@@ -252,18 +311,16 @@ bool Bracket(PeakSolver& solver, double omega_pred, const Eigen::VectorXd& y_pre
       width *= 0.25;
       continue;
     }
-    if (next.slope * direction <= 0.0) {
-      return direction > 0.0 ? Locate(solver, previous, next, peak, why)
-                             : Locate(solver, next, previous, peak, why);
-    }
+    if (next.event * previous.event <= 0.0) return Locate(solver, previous, next, peak, why);
     previous = std::move(next);
     width *= 2.0;
   }
-  *why = "no maximum within " + Format(reach) + " of omega=" + Format(omega_pred);
+  *why = std::string(solver.kind() == EventKind::kPeak ? "no maximum" : "no crossing") +
+         " within " + Format(reach) + " of omega=" + Format(omega_pred);
   return false;
 }
 
-PeakCurvePoint ToPoint(double parameter, const Sample& sample, int solves) {
+EventCurvePoint ToPoint(double parameter, const Sample& sample, int solves) {
   return {parameter, sample.omega, sample.measure, sample.y, solves};
 }
 
@@ -280,43 +337,42 @@ double NextValue(double p, double step, double to, const std::vector<double>& st
   return kLandingReach * std::abs(step) >= std::abs(target - p) ? target : p + step;
 }
 
-void FollowPeak(const Case& the_case, const CaseParameter& parameter,
-                const PeakCurveOptions& options, double from, int index, StopCheck& check,
-                PeakCurve* curve) {
+void Follow(const Case& the_case, const CaseParameter& parameter, const EventCurveOptions& options,
+            EventKind kind, double from, int index, StopCheck& check, EventCurve* curve) {
   const double range = std::abs(options.to - from);
   const double sign = options.to > from ? 1.0 : -1.0;
   double step = sign * options.initial_step * range;
   while (curve->points.back().parameter != options.to) {
     if (!check.Continue()) {
-      curve->end = PeakCurveEnd::kStopped;
+      curve->end = EventCurveEnd::kStopped;
       curve->message = "stopped";
       return;
     }
     if (static_cast<int>(curve->points.size()) >= options.max_points) {
-      curve->end = PeakCurveEnd::kMaxPoints;
+      curve->end = EventCurveEnd::kMaxPoints;
       curve->message = "max_points reached";
       return;
     }
-    const PeakCurvePoint& last = curve->points.back();
+    const EventCurvePoint& last = curve->points.back();
     const double p = NextValue(last.parameter, step, options.to, options.stations);
     // Linear extrapolation in the parameter from the last two points.
     double omega_pred = last.omega;
     Eigen::VectorXd y_pred = last.y;
     if (curve->points.size() >= 2) {
-      const PeakCurvePoint& before = curve->points[curve->points.size() - 2];
+      const EventCurvePoint& before = curve->points[curve->points.size() - 2];
       const double t = (p - last.parameter) / (last.parameter - before.parameter);
       omega_pred += t * (last.omega - before.omega);
       y_pred += t * (last.y - before.y);
     }
-    PeakSolver solver(parameter.With(the_case, p), options.measure);
+    EventSolver solver(parameter.With(the_case, p), kind, options.measure);
     Sample peak;
     std::string why;
     double largest = 0.0;
-    for (const PeakCurvePoint& point : curve->points) largest = std::max(largest, point.measure);
+    for (const EventCurvePoint& point : curve->points) largest = std::max(largest, point.measure);
     const bool found = Bracket(solver, omega_pred, y_pred, last, &peak, &why);
-    if (found && !(peak.measure > kVanishedMeasure * largest)) {
+    if (found && kind == EventKind::kPeak && !(peak.measure > kVanishedMeasure * largest)) {
       curve->solves += solver.solves();
-      curve->end = PeakCurveEnd::kVanished;
+      curve->end = EventCurveEnd::kVanished;
       curve->message = "the response vanishes at " + parameter.path() + "=" + Format(p) + " (" +
                        options.measure.name + "=" + Format(peak.measure) + ")";
       return;
@@ -325,10 +381,11 @@ void FollowPeak(const Case& the_case, const CaseParameter& parameter,
       curve->points.push_back(ToPoint(p, peak, solver.solves()));
       curve->solves += solver.solves();
       if (options.progress != nullptr) {
-        *options.progress << "nfrc: peak " << index << " point " << curve->points.size() - 1 << " "
-                          << parameter.path() << "=" << p << " omega=" << peak.omega << " "
-                          << options.measure.name << "=" << peak.measure << " step=" << step
-                          << " solves=" << solver.solves() << "\n";
+        *options.progress << "nfrc: " << EventName(kind) << " " << index << " point "
+                          << curve->points.size() - 1 << " " << parameter.path() << "=" << p
+                          << " omega=" << peak.omega << " " << options.measure.name << "="
+                          << peak.measure << " step=" << step << " solves=" << solver.solves()
+                          << "\n";
       }
       if (solver.solves() <= kEasySolves) {
         step = sign * std::min(std::abs(step) * kStepGrowth, options.max_step * range);
@@ -338,18 +395,20 @@ void FollowPeak(const Case& the_case, const CaseParameter& parameter,
     curve->solves += solver.solves();
     step *= 0.5;
     if (std::abs(step) < options.min_step * range) {
-      curve->end = PeakCurveEnd::kVanished;
-      curve->message = "no maximum of " + options.measure.name + " followed beyond " +
-                       parameter.path() + "=" + Format(last.parameter) +
-                       " (omega=" + Format(last.omega) + "): " + why;
+      curve->end = EventCurveEnd::kVanished;
+      curve->message =
+          std::string(kind == EventKind::kPeak ? "no maximum of " + options.measure.name
+                                               : std::string("no Neimark-Sacker point")) +
+          " followed beyond " + parameter.path() + "=" + Format(last.parameter) +
+          " (omega=" + Format(last.omega) + "): " + why;
       return;
     }
   }
-  curve->end = PeakCurveEnd::kReachedTo;
+  curve->end = EventCurveEnd::kReachedTo;
 }
 
 // The peak between branch points lo, mid, hi (mid the largest measure), or false with why.
-bool LocateOnBranch(PeakSolver& solver, const TracePoint& lo, const TracePoint& mid,
+bool LocateOnBranch(EventSolver& solver, const TracePoint& lo, const TracePoint& mid,
                     const TracePoint& hi, Sample* peak, std::string* why) {
   Sample a, b, c;
   if (!solver.Differentiate(lo.point.lambda, lo.point.y, &a) ||
@@ -359,10 +418,162 @@ bool LocateOnBranch(PeakSolver& solver, const TracePoint& lo, const TracePoint& 
     return false;
   }
   if (a.omega > c.omega) std::swap(a, c);  // a below b below c in ω
-  if (b.slope > 0.0 && c.slope <= 0.0) return Locate(solver, b, c, peak, why);
-  if (b.slope <= 0.0 && a.slope > 0.0) return Locate(solver, a, b, peak, why);
+  if (b.event > 0.0 && c.event <= 0.0) return Locate(solver, b, c, peak, why);
+  if (b.event <= 0.0 && a.event > 0.0) return Locate(solver, a, b, peak, why);
   *why = "dm/domega does not change sign from omega=" + Format(a.omega) + " to " + Format(c.omega);
   return false;
+}
+
+// The Neimark–Sacker point between the branch points around a localised one.
+bool LocateCrossing(EventSolver& solver, const TracePoint& before, const TracePoint& after,
+                    Sample* point, std::string* why) {
+  Sample a, b;
+  if (!solver.Differentiate(before.point.lambda, before.point.y, &a) ||
+      !solver.Differentiate(after.point.lambda, after.point.y, &b)) {
+    *why = solver.message();
+    return false;
+  }
+  if (a.event * b.event > 0.0) {
+    *why = "the complex pair does not cross the unit circle from omega=" + Format(a.omega) +
+           " to " + Format(b.omega);
+    return false;
+  }
+  return Locate(solver, a, b, point, why);
+}
+
+// Where a curve starts: an event between branch points, to be located.
+struct Start {
+  int point = 0;  // branch point nearest it (peaks) or before it (Neimark–Sacker)
+  double omega = 0.0;
+};
+
+std::vector<Start> PeakStarts(const Case& the_case, const TraceResult& trace,
+                              const EventCurveOptions& options, EventCurveResult* result) {
+  EventSolver solver(the_case, EventKind::kPeak, options.measure);
+  std::vector<double> measures;
+  for (const TracePoint& point : trace.points) {
+    Sample sample;
+    measures.push_back(solver.Differentiate(point.point.lambda, point.point.y, &sample)
+                           ? sample.measure
+                           : std::numeric_limits<double>::quiet_NaN());
+  }
+  std::vector<Start> starts;
+  for (size_t i = 1; i + 1 < measures.size(); ++i) {
+    if (!(measures[i] > measures[i - 1] && measures[i] >= measures[i + 1])) continue;
+    const double lo = trace.points[i - 1].point.lambda, mid = trace.points[i].point.lambda;
+    if ((mid - lo) * (trace.points[i + 1].point.lambda - mid) <= 0.0) {
+      result->notes.push_back("the maximum at point " + std::to_string(i) + " (omega=" +
+                              Format(mid) + ") is beside a fold of the branch: follow the fold");
+      continue;
+    }
+    starts.push_back({static_cast<int>(i), mid});
+  }
+  result->branch_events = static_cast<int>(starts.size());
+  if (starts.empty()) {
+    result->notes.push_back("the branch has no maximum of " + options.measure.name +
+                            " between its ends (" + trace.branch.summary.message + ")");
+  }
+  return starts;
+}
+
+std::vector<Start> NeimarkSackerStarts(const TraceResult& trace, EventCurveResult* result) {
+  std::vector<Start> starts;
+  for (const Bifurcation& bifurcation : trace.bifurcations) {
+    if (bifurcation.type != BifurcationType::kNeimarkSacker) continue;
+    if (bifurcation.discontinuous) {
+      result->notes.push_back("the Neimark-Sacker point at omega=" + Format(bifurcation.omega) +
+                              " is a jump of the multipliers (a nonsmooth law switched): no "
+                              "smooth crossing to follow");
+      continue;
+    }
+    starts.push_back({bifurcation.after_point, bifurcation.omega});
+  }
+  result->branch_events = static_cast<int>(starts.size());
+  if (starts.empty()) {
+    result->notes.push_back("the branch has no Neimark-Sacker point (" +
+                            trace.branch.summary.message + ")");
+  }
+  return starts;
+}
+
+EventCurveResult TraceEventCurves(const Case& the_case, const CaseParameter& parameter,
+                                  const EventCurveOptions& options, EventKind kind) {
+  the_case.Validate();
+  if (the_case.method != Method::kArclength) {
+    throw InputError(
+        "continuation.method: peak and Neimark-Sacker curves need the arclength "
+        "method");
+  }
+  if (kind == EventKind::kNeimarkSacker && !the_case.stability.enabled) {
+    throw InputError("stability.enabled: Neimark-Sacker curves need the stability analysis");
+  }
+  EventCurveResult result;
+  result.parameter = parameter.path();
+  result.from = parameter.Get(the_case);
+  result.to = options.to;
+  result.measure = options.measure.name;
+  options.Validate(result.from);
+  try {
+    parameter.With(the_case, options.to);
+  } catch (const InputError& error) {
+    throw InputError(std::string("to: the case rejects it: ") + error.what());
+  }
+  Case branch_case = the_case;
+  // Peaks need only the measure along the branch; Neimark-Sacker points its stability.
+  if (kind == EventKind::kPeak) branch_case.stability.enabled = false;
+  TraceOptions trace_options;
+  trace_options.progress = options.progress;
+  trace_options.solve_signals = false;
+  StopCheck check(options.stop, options.poll);
+  trace_options.observer = &check;
+  const TraceResult trace = TraceCase(branch_case, trace_options);
+
+  std::vector<Start> starts = kind == EventKind::kPeak
+                                  ? PeakStarts(the_case, trace, options, &result)
+                                  : NeimarkSackerStarts(trace, &result);
+  if (!std::isnan(options.near) && !starts.empty()) {
+    const auto nearest = std::min_element(starts.begin(), starts.end(), [&](auto& a, auto& b) {
+      return std::abs(a.omega - options.near) < std::abs(b.omega - options.near);
+    });
+    starts = {*nearest};
+  }
+  const size_t last_point = trace.points.empty() ? 0 : trace.points.size() - 1;
+  for (const Start& start : starts) {
+    if (!check.Continue()) break;
+    const auto started = std::chrono::steady_clock::now();
+    EventCurve curve;
+    curve.start_point = start.point;
+    EventSolver solver(the_case, kind, options.measure);
+    Sample located;
+    std::string why;
+    const size_t i = static_cast<size_t>(start.point);
+    const bool found =
+        kind == EventKind::kPeak
+            ? LocateOnBranch(solver, trace.points[i - 1], trace.points[i], trace.points[i + 1],
+                             &located, &why)
+            : LocateCrossing(solver, trace.points[i], trace.points[std::min(i + 1, last_point)],
+                             &located, &why);
+    if (!found) {
+      curve.message = std::string("the ") + EventName(kind) + " near omega=" + Format(start.omega) +
+                      " was not located: " + why;
+    } else {
+      curve.start_omega = located.omega;
+      curve.points.push_back(ToPoint(result.from, located, solver.solves()));
+      curve.solves = solver.solves();
+      if (options.progress != nullptr) {
+        *options.progress << "nfrc: " << EventName(kind) << " " << result.curves.size()
+                          << " at omega=" << located.omega << ": following " << parameter.path()
+                          << " from " << result.from << " to " << options.to << "\n";
+      }
+      Follow(the_case, parameter, options, kind, result.from,
+             static_cast<int>(result.curves.size()), check, &curve);
+    }
+    curve.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    result.curves.push_back(std::move(curve));
+    if (options.observer != nullptr) options.observer->OnCurve(result.curves.back());
+  }
+  return result;
 }
 
 }  // namespace
@@ -406,23 +617,23 @@ double EvaluatePeakMeasure(const PeakMeasure& measure, HarmonicSystem& system,
   return 0.0;
 }
 
-const char* ToString(PeakCurveEnd end) {
+const char* ToString(EventCurveEnd end) {
   switch (end) {
-    case PeakCurveEnd::kReachedTo:
+    case EventCurveEnd::kReachedTo:
       return "reached_to";
-    case PeakCurveEnd::kVanished:
+    case EventCurveEnd::kVanished:
       return "vanished";
-    case PeakCurveEnd::kMaxPoints:
+    case EventCurveEnd::kMaxPoints:
       return "max_points";
-    case PeakCurveEnd::kStopped:
+    case EventCurveEnd::kStopped:
       return "stopped";
-    case PeakCurveEnd::kStartFailed:
+    case EventCurveEnd::kStartFailed:
       return "start_failed";
   }
   return "unknown";
 }
 
-void PeakCurveOptions::Validate(double from) const {
+void EventCurveOptions::Validate(double from) const {
   if (!std::isfinite(to) || to == from) {
     throw InputError("to: must be finite and differ from the parameter's value in the case");
   }
@@ -447,95 +658,14 @@ void PeakCurveOptions::Validate(double from) const {
   if (max_points < 1) throw InputError("max_points: must be at least 1");
 }
 
-PeakCurveResult TracePeakCurves(const Case& the_case, const CaseParameter& parameter,
-                                const PeakCurveOptions& options) {
-  the_case.Validate();
-  if (the_case.method != Method::kArclength) {
-    throw InputError("continuation.method: peak curves need the arclength method");
-  }
-  PeakCurveResult result;
-  result.parameter = parameter.path();
-  result.from = parameter.Get(the_case);
-  result.to = options.to;
-  result.measure = options.measure.name;
-  options.Validate(result.from);
-  try {
-    parameter.With(the_case, options.to);
-  } catch (const InputError& error) {
-    throw InputError(std::string("to: the case rejects it: ") + error.what());
-  }
-  Case branch_case = the_case;
-  branch_case.stability.enabled = false;  // only the measure along the branch is needed
-  TraceOptions trace_options;
-  trace_options.progress = options.progress;
-  trace_options.solve_signals = false;
-  StopCheck check(options.stop, options.poll);
-  trace_options.observer = &check;
-  const TraceResult trace = TraceCase(branch_case, trace_options);
+EventCurveResult TracePeakCurves(const Case& the_case, const CaseParameter& parameter,
+                                 const EventCurveOptions& options) {
+  return TraceEventCurves(the_case, parameter, options, EventKind::kPeak);
+}
 
-  PeakSolver solver(the_case, options.measure);
-  std::vector<double> measures;
-  for (const TracePoint& point : trace.points) {
-    Sample sample;
-    measures.push_back(solver.Differentiate(point.point.lambda, point.point.y, &sample)
-                           ? sample.measure
-                           : std::numeric_limits<double>::quiet_NaN());
-  }
-  std::vector<int> peaks;
-  for (size_t i = 1; i + 1 < measures.size(); ++i) {
-    if (measures[i] > measures[i - 1] && measures[i] >= measures[i + 1]) {
-      peaks.push_back(static_cast<int>(i));
-    }
-  }
-  result.branch_peaks = static_cast<int>(peaks.size());
-  if (peaks.empty()) {
-    result.notes.push_back("the branch has no maximum of " + options.measure.name +
-                           " between its ends (" + trace.branch.summary.message + ")");
-  }
-  if (!std::isnan(options.near) && !peaks.empty()) {
-    const auto nearest = std::min_element(peaks.begin(), peaks.end(), [&](int a, int b) {
-      return std::abs(trace.points[a].point.lambda - options.near) <
-             std::abs(trace.points[b].point.lambda - options.near);
-    });
-    peaks = {*nearest};
-  }
-  for (int i : peaks) {
-    if (!check.Continue()) break;
-    const TracePoint& lo = trace.points[i - 1];
-    const TracePoint& mid = trace.points[i];
-    const TracePoint& hi = trace.points[i + 1];
-    if ((mid.point.lambda - lo.point.lambda) * (hi.point.lambda - mid.point.lambda) <= 0.0) {
-      result.notes.push_back("the maximum at point " + std::to_string(i) +
-                             " (omega=" + Format(mid.point.lambda) +
-                             ") is beside a fold of the branch: follow the fold instead");
-      continue;
-    }
-    const auto started = std::chrono::steady_clock::now();
-    PeakCurve curve;
-    curve.start_point = i;
-    PeakSolver start_solver(the_case, options.measure);
-    Sample peak;
-    std::string why;
-    if (!LocateOnBranch(start_solver, lo, mid, hi, &peak, &why)) {
-      curve.message = "the maximum at point " + std::to_string(i) + " was not located: " + why;
-    } else {
-      curve.start_omega = peak.omega;
-      curve.points.push_back(ToPoint(result.from, peak, start_solver.solves()));
-      curve.solves = start_solver.solves();
-      if (options.progress != nullptr) {
-        *options.progress << "nfrc: peak " << result.curves.size() << " at omega=" << peak.omega
-                          << ": following " << parameter.path() << " from " << result.from << " to "
-                          << options.to << "\n";
-      }
-      FollowPeak(the_case, parameter, options, result.from, static_cast<int>(result.curves.size()),
-                 check, &curve);
-    }
-    curve.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    result.curves.push_back(std::move(curve));
-    if (options.observer != nullptr) options.observer->OnCurve(result.curves.back());
-  }
-  return result;
+EventCurveResult TraceNeimarkSackerCurves(const Case& the_case, const CaseParameter& parameter,
+                                          const EventCurveOptions& options) {
+  return TraceEventCurves(the_case, parameter, options, EventKind::kNeimarkSacker);
 }
 
 }  // namespace nfrc

@@ -1,6 +1,8 @@
-// Peak curves: the one-harmonic Duffing resonance peak in the forcing against its closed form,
-// and the friction oscillator's peaks in the normal load against branches traced at fixed loads.
-#include "analysis/peak_curve.h"
+// Event curves. Peaks: the one-harmonic Duffing resonance peak in the forcing against its
+// closed form, and the friction oscillator's peaks in the normal load against branches traced
+// at fixed loads. Neimark–Sacker points of an oscillator with a nonlinear energy sink against
+// the bifurcations of fixed-forcing traces.
+#include "analysis/event_curve.h"
 
 #include <doctest/doctest.h>
 
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "analysis/bifurcation.h"
 #include "analysis/trace.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
@@ -48,19 +51,19 @@ void ClosedFormPeak(double p, double* omega, double* amplitude) {
 TEST_CASE("peak curve of Duffing with one harmonic in the forcing: closed form") {
   const Case the_case = DuffingCase();
   const CaseParameter forcing("model.forcing[0].cos", the_case);
-  PeakCurveOptions options;
+  EventCurveOptions options;
   options.to = 1.0;
   options.measure = ParsePeakMeasure("h1:0", the_case);
   options.stations = {0.5, 0.75};
-  const PeakCurveResult result = TracePeakCurves(the_case, forcing, options);
-  REQUIRE(result.branch_peaks == 1);
+  const EventCurveResult result = TracePeakCurves(the_case, forcing, options);
+  REQUIRE(result.branch_events == 1);
   REQUIRE(result.curves.size() == 1);
-  const PeakCurve& curve = result.curves[0];
-  CHECK(curve.end == PeakCurveEnd::kReachedTo);
+  const EventCurve& curve = result.curves[0];
+  CHECK(curve.end == EventCurveEnd::kReachedTo);
   REQUIRE(curve.points.size() >= 4);
   double worst_omega = 0.0, worst_amplitude = 0.0;
   int stations = 0;
-  for (const PeakCurvePoint& point : curve.points) {
+  for (const EventCurvePoint& point : curve.points) {
     double omega = 0.0, amplitude = 0.0;
     ClosedFormPeak(point.parameter, &omega, &amplitude);
     worst_omega = std::max(worst_omega, std::abs(point.omega - omega));
@@ -83,7 +86,7 @@ TEST_CASE("peak curve options and measures are checked") {
   CHECK_THROWS_WITH_AS(ParsePeakMeasure("max_abs:x9", the_case), doctest::Contains("x9"),
                        InputError);
   const CaseParameter forcing("model.forcing[0].cos", the_case);
-  PeakCurveOptions options;
+  EventCurveOptions options;
   options.to = 0.3;
   CHECK_THROWS_WITH_AS(TracePeakCurves(the_case, forcing, options), doctest::Contains("to"),
                        InputError);
@@ -155,8 +158,8 @@ BranchPeak PeakOfBranch(const Case& the_case, const PeakMeasure& measure, double
   return peak;
 }
 
-const PeakCurvePoint* PointAt(const PeakCurve& curve, double parameter) {
-  for (const PeakCurvePoint& point : curve.points) {
+const EventCurvePoint* PointAt(const EventCurve& curve, double parameter) {
+  for (const EventCurvePoint& point : curve.points) {
     if (point.parameter == parameter) return &point;
   }
   return nullptr;
@@ -167,7 +170,7 @@ const PeakCurvePoint* PointAt(const PeakCurve& curve, double parameter) {
 // both; ω may be off by up to the points' spacing where the maximum is flat.
 constexpr double kBranchMeasure = 2e-3;
 
-void CheckAgainstBranch(const PeakCurvePoint& point, const Case& the_case,
+void CheckAgainstBranch(const EventCurvePoint& point, const Case& the_case,
                         const PeakMeasure& measure) {
   const BranchPeak branch = PeakOfBranch(the_case, measure, point.omega);
   // The located maximum cannot lie below a solution on the branch (1e-9: solve tolerance).
@@ -183,14 +186,14 @@ TEST_CASE("friction oscillator: peak curves in the normal load against single ru
   const Case at_8 = FrictionCase(8.0);
   const CaseParameter load("nonlinearities[0].normal_load", at_8);
   // The primary resonance (energy, near the sliding mode 0.618) from N = 8 through 10.
-  PeakCurveOptions options;
+  EventCurveOptions options;
   options.to = 10.0;
   options.near = 0.618;
-  const PeakCurveResult primary = TracePeakCurves(at_8, load, options);
+  const EventCurveResult primary = TracePeakCurves(at_8, load, options);
   REQUIRE(primary.curves.size() == 1);
-  CHECK(primary.curves[0].end == PeakCurveEnd::kReachedTo);
+  CHECK(primary.curves[0].end == EventCurveEnd::kReachedTo);
   for (double n : {8.0, 10.0}) {
-    const PeakCurvePoint* point = PointAt(primary.curves[0], n);
+    const EventCurvePoint* point = PointAt(primary.curves[0], n);
     REQUIRE(point != nullptr);
     CheckAgainstBranch(*point, FrictionCase(n), options.measure);
   }
@@ -199,12 +202,68 @@ TEST_CASE("friction oscillator: peak curves in the normal load against single ru
   options.to = 12.0;
   options.near = 0.553;
   options.measure = ParsePeakMeasure("h1:x2", at_10);
-  const PeakCurveResult damper = TracePeakCurves(at_10, load, options);
+  const EventCurveResult damper = TracePeakCurves(at_10, load, options);
   REQUIRE(damper.curves.size() == 1);
-  CHECK(damper.curves[0].end == PeakCurveEnd::kReachedTo);
-  const PeakCurvePoint* point = PointAt(damper.curves[0], 12.0);
+  CHECK(damper.curves[0].end == EventCurveEnd::kReachedTo);
+  const EventCurvePoint* point = PointAt(damper.curves[0], 12.0);
   REQUIRE(point != nullptr);
   CheckAgainstBranch(*point, FrictionCase(12.0), options.measure);
+}
+
+}  // namespace
+}  // namespace nfrc
+
+namespace nfrc {
+namespace {
+
+// Both localisations stop at 1e-6 relative in ω or better (the trace's bifurcation_tolerance;
+// the curve's bracket 1e-8), so they agree to a few 1e-6.
+constexpr double kNeimarkSackerOmega = 5e-6;
+
+TEST_CASE("Neimark-Sacker curves of the NES oscillator in the forcing against fixed-P runs") {
+  const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/nes_neimark_sacker.json");
+  const CaseParameter forcing("model.forcing[0].cos", the_case);
+  EventCurveOptions options;
+  options.to = 0.01;
+  options.stations = {0.0075};
+  const EventCurveResult result = TraceNeimarkSackerCurves(the_case, forcing, options);
+  REQUIRE(result.branch_events == 2);
+  REQUIRE(result.curves.size() == 2);
+  for (double p : {0.0075, 0.01}) {
+    TraceOptions trace_options;
+    trace_options.solve_signals = false;
+    const TraceResult trace = TraceCase(forcing.With(the_case, p), trace_options);
+    std::vector<double> reference;
+    for (const Bifurcation& b : trace.bifurcations) {
+      if (b.type == BifurcationType::kNeimarkSacker) reference.push_back(b.omega);
+    }
+    REQUIRE(reference.size() == 2);
+    for (const EventCurve& curve : result.curves) {
+      CHECK(curve.end == EventCurveEnd::kReachedTo);
+      const EventCurvePoint* point = nullptr;
+      for (const EventCurvePoint& q : curve.points) {
+        if (q.parameter == p) point = &q;
+      }
+      REQUIRE(point != nullptr);
+      double nearest = reference[0];
+      for (double omega : reference) {
+        if (std::abs(omega - point->omega) < std::abs(nearest - point->omega)) nearest = omega;
+      }
+      CHECK(std::abs(point->omega - nearest) < kNeimarkSackerOmega * nearest);
+      MESSAGE("P = " << p << ": Neimark-Sacker curve omega " << point->omega << ", fixed-P run "
+                     << nearest);
+    }
+  }
+}
+
+TEST_CASE("Neimark-Sacker curves need the stability analysis") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/nes_neimark_sacker.json");
+  the_case.stability.enabled = false;
+  const CaseParameter forcing("model.forcing[0].cos", the_case);
+  EventCurveOptions options;
+  options.to = 0.01;
+  CHECK_THROWS_WITH_AS(TraceNeimarkSackerCurves(the_case, forcing, options),
+                       doctest::Contains("stability.enabled"), InputError);
 }
 
 }  // namespace

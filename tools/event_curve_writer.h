@@ -1,0 +1,38 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "analysis/event_curve.h"
+
+namespace nfrc {
+
+// Writes DIR/peak_curve.json or DIR/neimark_sacker_curve.json (`path`), rewritten (atomically)
+// after each curve and at the end, so an interrupted or failing run keeps the curves already
+// followed:
+// - "parameter", "from", "to", "measure", "branch_events", "notes", "case" (as written);
+// - "points": [{"curve", "parameter", "omega", <measure>, "solves"}], each curve's points in
+//   order from the case's value towards "to", curve after curve;
+// - "curves": [{"start_point", "start_omega", "termination", "message", "points", "solves",
+//   "seconds"}].
+// It only writes: it never solves.
+class EventCurveWriter : public EventCurveObserver {
+ public:
+  // Creates the directory of `path` and writes the document without curves; OutputError if it
+  // cannot.
+  EventCurveWriter(std::string path, const std::string& parameter, double from, double to,
+                   const std::string& measure, nlohmann::json source);
+  void OnCurve(const EventCurve& curve) override;
+  // The final document (notes and counts of the finished run).
+  void Finish(const EventCurveResult& result);
+
+ private:
+  void Write();
+
+  std::string path_;
+  std::string measure_;
+  nlohmann::json document_;
+  int curves_ = 0;
+};
+
+}  // namespace nfrc
