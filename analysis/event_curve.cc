@@ -1,324 +1,37 @@
 #include "analysis/event_curve.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <complex>
 #include <memory>
 #include <ostream>
 #include <sstream>
 #include <utility>
 
 #include "analysis/bifurcation.h"
+#include "analysis/event_search.h"
 #include "analysis/trace.h"
-#include "continuation/fixed_lambda.h"
 #include "core/errors.h"
 
 namespace nfrc {
 namespace {
 
-// Relative ω step of the central difference of m along the branch direction (dy/dω, 1): near
-// ε^(1/3), where truncation and rounding of a central difference balance.
-constexpr double kSlopeStep = 1e-6;
-// A bracket narrower than this (relative to ω) is the peak: m is stationary there, so the
-// measure is exact to second order where m is smooth, to 1e-8 × its slope jump at a kink.
-constexpr double kOmegaTolerance = 1e-8;
-constexpr int kMaxRefineIterations = 100;
-// Bracketing after a parameter step: the first trial is at least kMinBracket (relative to ω)
-// from the prediction, and no peak is searched farther from it than kReachFactor times the
-// predicted move or kMinReach (relative to ω). A peak farther away is another peak (the one
-// followed vanished, or moved faster than the step resolves): the step is cut.
-constexpr double kMinBracket = 1e-3;
-constexpr double kReachFactor = 1.0;
-// Trials of the bracket walk that fail (past a fold) are retried this often, 4× closer.
-constexpr int kBracketRetries = 4;
-constexpr double kMinReach = 5e-3;
-constexpr double kStepGrowth = 1.5;
-// Reciprocal condition number of R_y below which dy/dω is not computed: the point is at a fold.
-constexpr double kSingular = 1e-13;
-// A multiplier is of a complex pair when |Im μ| exceeds this fraction of |μ| (real ones come
-// out of Hill's eigenproblem with imaginary parts of rounding size).
-constexpr double kComplexPart = 1e-6;
-constexpr double kLandingReach = 1.25;
-// On a nonsmooth branch the top of a resonance can hold several local maxima ~1e-4 apart in ω
-// (the slope jumps where samples switch between stick and slip): kProbes probes each side
-// within kClusterWindow (relative to ω) find the highest, in up to kPolishRounds moves.
-constexpr double kClusterWindow = 2e-3;
-constexpr int kProbes = 4;
-constexpr int kPolishRounds = 3;
+using event_search::EventKind;
+using event_search::EventName;
+using event_search::EventSolver;
+using event_search::Sample;
+
 // Steps that needed at most this many fixed-ω solves let the parameter step grow by
 // kStepGrowth (a start, two brackets, a few secant iterations and the polishing probes).
-constexpr int kEasySolves = 2 * kProbes + 10;
+constexpr int kEasySolves = 2 * event_search::kEventProbes + 10;
+constexpr double kStepGrowth = 1.5;
+// A step that would leave less than a quarter step to the target goes all the way.
+constexpr double kLandingReach = 1.25;
 // A maximum below this fraction of the largest one on the curve is of a response that has
 // vanished (a friction damper stuck throughout): its ω is rounding, so the curve ends.
 constexpr double kVanishedMeasure = 1e-9;
 
-enum class EventKind { kPeak, kNeimarkSacker };
-
-const char* EventName(EventKind kind) {
-  return kind == EventKind::kPeak ? "peak" : "neimark_sacker";
-}
-
-std::string Format(double value) {
-  std::ostringstream out;
-  out.precision(8);
-  out << value;
-  return out.str();
-}
-
-// A solution at ω with its derivative along the branch and the measure's slope dm/dω.
-struct Sample {
-  double omega = 0.0;
-  Eigen::VectorXd y;
-  Eigen::VectorXd dy;  // dy/dω = −R_y⁻¹R_ω
-  double measure = 0.0;
-  // The event function: dm/dω for peaks (a maximum where it falls through 0), log|μ| of the
-  // largest complex pair of Floquet multipliers for Neimark–Sacker points (0 on the circle).
-  double event = 0.0;
-};
-
-// The system at one parameter value and the fixed-ω solves on it.
-class EventSolver {
- public:
-  EventSolver(Case at_parameter, EventKind kind, const PeakMeasure& measure)
-      : case_(std::move(at_parameter)),
-        kind_(kind),
-        system_(BuildSystem(case_)),
-        analyzer_(*system_, case_.output_dofs),
-        measure_(measure) {}
-
-  EventKind kind() const { return kind_; }
-
-  // Newton at fixed ω from `guess`, then the sample there; false (message()) if it fails.
-  bool At(double omega, const Eigen::VectorXd& guess, const Eigen::VectorXd& typical,
-          Sample* sample) {
-    ++solves_;
-    const FixedLambdaSolution solution =
-        SolveAtFixedLambda(*system_, guess, omega, typical, case_.continuation);
-    if (!solution.converged) {
-      message_ = "Newton at omega=" + Format(omega) + ": " + solution.message;
-      return false;
-    }
-    return Differentiate(omega, solution.y, sample);
-  }
-
-  // The sample at a solution (y, ω) already converged.
-  bool Differentiate(double omega, const Eigen::VectorXd& y, Sample* sample) {
-    Eigen::VectorXd residual, r_omega;
-    Eigen::MatrixXd r_y;
-    if (!system_->Evaluate(y, omega, &residual, &r_y, &r_omega)) {
-      message_ = "the system cannot be evaluated at omega=" + Format(omega);
-      return false;
-    }
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(r_y);
-    if (!(lu.rcond() >= kSingular)) {
-      message_ = "R_y is singular at omega=" + Format(omega) + " (a fold)";
-      return false;
-    }
-    sample->omega = omega;
-    sample->y = y;
-    sample->dy = -lu.solve(r_omega);
-    const double h = kSlopeStep * std::max(std::abs(omega), 1e-300);
-    sample->measure = Measure(y, omega);
-    if (kind_ == EventKind::kNeimarkSacker) return NeimarkSacker(omega, y, sample);
-    sample->event =
-        (Measure(y + h * sample->dy, omega + h) - Measure(y - h * sample->dy, omega - h)) /
-        (2.0 * h);
-    if (!std::isfinite(sample->event) || !sample->dy.allFinite()) {
-      message_ = "dm/domega is not finite at omega=" + Format(omega);
-      return false;
-    }
-    return true;
-  }
-
-  int solves() const { return solves_; }
-  const std::string& message() const { return message_; }
-
- private:
-  double Measure(const Eigen::VectorXd& y, double omega) {
-    return EvaluatePeakMeasure(measure_, *system_, analyzer_, y, omega);
-  }
-
-  // log|μ| of the largest complex pair of Hill's multipliers.
-  bool NeimarkSacker(double omega, const Eigen::VectorXd& y, Sample* sample) {
-    if (!monitor_) {
-      monitor_ = std::make_unique<StabilityMonitor>(*system_, case_.stability, case_.continuation);
-    }
-    const FloquetResult floquet = monitor_->Analyze(y, omega);
-    if (!floquet.computed) {
-      message_ = "Hill's method failed at omega=" + Format(omega) + ": " + floquet.message;
-      return false;
-    }
-    double largest = 0.0;
-    for (const std::complex<double>& mu : floquet.multipliers) {
-      if (std::abs(mu.imag()) > kComplexPart * std::abs(mu))
-        largest = std::max(largest, std::abs(mu));
-    }
-    if (!(largest > 0.0)) {
-      message_ = "no complex pair of multipliers at omega=" + Format(omega);
-      return false;
-    }
-    sample->event = std::log(largest);
-    return true;
-  }
-
-  Case case_;
-  EventKind kind_;
-  std::unique_ptr<HarmonicSystem> system_;
-  std::unique_ptr<StabilityMonitor> monitor_;  // Neimark–Sacker: made at the first sample
-  PointAnalyzer analyzer_;
-  const PeakMeasure& measure_;
-  int solves_ = 0;
-  std::string message_;
-};
-
-// The zero of the event between `rising` (event > 0) and `falling` (event ≤ 0) — for peaks a
-// maximum — by regula falsi with the Illinois modification (superlinear where the event is
-// smooth), with a bisection whenever two iterations did not halve the bracket (where it jumps,
-// as dm/dω does where a nonsmooth law switches, regula falsi alone crawls).
-bool Refine(EventSolver& solver, Sample rising, Sample falling, Sample* peak, std::string* why) {
-  double f_rising = rising.event, f_falling = falling.event;
-  int kept = 0;  // +1: the rising end was kept last time, −1: the falling end
-  double width_before = std::numeric_limits<double>::infinity();  // two iterations ago
-  double width_last = width_before;
-  for (int iteration = 0; iteration < kMaxRefineIterations; ++iteration) {
-    const double width = std::abs(falling.omega - rising.omega);
-    const double scale = std::max(std::abs(rising.omega), std::abs(falling.omega));
-    if (falling.event == 0.0 || width <= kOmegaTolerance * scale) {
-      // A peak: the higher end; a Neimark–Sacker point: the end nearer the unit circle.
-      const bool take_falling = solver.kind() == EventKind::kPeak
-                                    ? falling.measure >= rising.measure
-                                    : std::abs(falling.event) <= std::abs(rising.event);
-      *peak = take_falling ? falling : rising;
-      return true;
-    }
-    const double lo = std::min(rising.omega, falling.omega);
-    const double hi = std::max(rising.omega, falling.omega);
-    double omega = (rising.omega * f_falling - falling.omega * f_rising) / (f_falling - f_rising);
-    if (!(omega > lo && omega < hi) || width > 0.5 * width_before) omega = 0.5 * (lo + hi);
-    width_before = width_last;
-    width_last = width;
-    const Sample& near =
-        std::abs(omega - rising.omega) < std::abs(omega - falling.omega) ? rising : falling;
-    const Eigen::VectorXd guess = near.y + near.dy * (omega - near.omega);
-    Sample next;
-    if (!solver.At(omega, guess, near.y, &next)) {
-      *why = solver.message();
-      return false;
-    }
-    if (next.event > 0.0) {
-      rising = std::move(next);
-      f_rising = rising.event;
-      if (kept == +1) f_falling *= 0.5;
-      kept = -1;
-    } else {
-      falling = std::move(next);
-      f_falling = falling.event;
-      if (kept == -1) f_rising *= 0.5;
-      kept = +1;
-    }
-  }
-  *why = "the bracket from omega=" + Format(rising.omega) + " to " + Format(falling.omega) +
-         " did not close in " + std::to_string(kMaxRefineIterations) + " solves";
-  return false;
-}
-
-// Moves a located maximum to the highest one within the cluster window around it.
-bool Polish(EventSolver& solver, Sample* peak, std::string* why) {
-  for (int round = 0; round < kPolishRounds; ++round) {
-    const double delta = kClusterWindow * std::abs(peak->omega) / kProbes;
-    std::vector<Sample> probes = {*peak};  // in increasing ω
-    for (double side : {-1.0, 1.0}) {
-      const Sample* from = peak;
-      Sample probe;
-      for (int k = 1; k <= kProbes; ++k) {
-        const double omega = peak->omega + side * k * delta;
-        // A probe that does not converge (past a fold) ends that side.
-        if (!solver.At(omega, from->y + from->dy * (omega - from->omega), from->y, &probe)) break;
-        if (side < 0.0) {
-          probes.insert(probes.begin(), std::move(probe));
-          from = &probes.front();
-        } else {
-          probes.push_back(std::move(probe));
-          from = &probes.back();
-        }
-      }
-    }
-    const auto highest =
-        std::max_element(probes.begin(), probes.end(),
-                         [](const Sample& a, const Sample& b) { return a.measure < b.measure; });
-    if (highest->measure <= peak->measure) return true;
-    const size_t j = static_cast<size_t>(highest - probes.begin());
-    if (highest->event > 0.0 && j + 1 < probes.size() && probes[j + 1].event <= 0.0) {
-      if (!Refine(solver, probes[j], probes[j + 1], peak, why)) return false;
-    } else if (highest->event <= 0.0 && j > 0 && probes[j - 1].event > 0.0) {
-      if (!Refine(solver, probes[j - 1], probes[j], peak, why)) return false;
-    } else {
-      *peak = *highest;  // at the window's edge, still rising: the next round goes on from it
-    }
-  }
-  return true;
-}
-
-// Refine a bracket (ends in either order), then, for peaks, Polish.
-bool Locate(EventSolver& solver, const Sample& a, const Sample& b, Sample* peak, std::string* why) {
-  const bool a_rises = a.event > 0.0;
-  if (!Refine(solver, a_rises ? a : b, a_rises ? b : a, peak, why)) return false;
-  return solver.kind() != EventKind::kPeak || Polish(solver, peak, why);
-}
-
-// The event nearest ω_pred on `solver`'s system: bracketed by walking from the prediction with
-// doubling steps — uphill for a peak, towards the smaller |event| (decided by a first trial
-// above the prediction) for a Neimark–Sacker point — then refined.
-bool Bracket(EventSolver& solver, double omega_pred, const Eigen::VectorXd& y_pred,
-             const EventCurvePoint& last, Sample* peak, std::string* why) {
-  Sample start;
-  if (!solver.At(omega_pred, y_pred, last.y, &start)) {
-    *why = solver.message();
-    return false;
-  }
-  if (start.event == 0.0) {
-    *peak = start;
-    return true;
-  }
-  const double reach =
-      std::max(kReachFactor * std::abs(omega_pred - last.omega), kMinReach * std::abs(last.omega));
-  double width = std::max(std::abs(omega_pred - last.omega), kMinBracket * std::abs(last.omega));
-  double direction = start.event > 0.0 ? 1.0 : -1.0;
-  Sample previous = start;
-  if (solver.kind() == EventKind::kNeimarkSacker) {
-    Sample above;
-    const double omega = omega_pred + width;
-    if (!solver.At(omega, start.y + start.dy * width, start.y, &above)) {
-      *why = solver.message();
-      return false;
-    }
-    if (above.event * start.event <= 0.0) return Locate(solver, start, above, peak, why);
-    direction = std::abs(above.event) < std::abs(start.event) ? 1.0 : -1.0;
-    if (direction > 0.0) previous = std::move(above);
-  }
-  int failures = 0;
-  while (std::abs(previous.omega + direction * width - omega_pred) <= reach) {
-    const double omega = previous.omega + direction * width;
-    Sample next;
-    if (!solver.At(omega, previous.y + previous.dy * (omega - previous.omega), previous.y, &next)) {
-      // Past a fold just beyond the peak (lightly damped hardening peaks): a shorter trial.
-      if (++failures > kBracketRetries) {
-        *why = solver.message();
-        return false;
-      }
-      width *= 0.25;
-      continue;
-    }
-    if (next.event * previous.event <= 0.0) return Locate(solver, previous, next, peak, why);
-    previous = std::move(next);
-    width *= 2.0;
-  }
-  *why = std::string(solver.kind() == EventKind::kPeak ? "no maximum" : "no crossing") +
-         " within " + Format(reach) + " of omega=" + Format(omega_pred);
-  return false;
-}
+std::string Format(double value) { return event_search::FormatValue(value); }
 
 EventCurvePoint ToPoint(double parameter, const Sample& sample, int solves) {
   return {parameter, sample.omega, sample.measure, sample.y, solves};
@@ -333,7 +46,6 @@ double NextValue(double p, double step, double to, const std::vector<double>& st
       target = station;
     }
   }
-  // A step that would leave less than a quarter step to the target goes all the way.
   return kLandingReach * std::abs(step) >= std::abs(target - p) ? target : p + step;
 }
 
@@ -369,7 +81,8 @@ void Follow(const Case& the_case, const CaseParameter& parameter, const EventCur
     std::string why;
     double largest = 0.0;
     for (const EventCurvePoint& point : curve->points) largest = std::max(largest, point.measure);
-    const bool found = Bracket(solver, omega_pred, y_pred, last, &peak, &why);
+    const bool found =
+        event_search::Bracket(solver, omega_pred, y_pred, last.omega, last.y, &peak, &why);
     if (found && kind == EventKind::kPeak && !(peak.measure > kVanishedMeasure * largest)) {
       curve->solves += solver.solves();
       curve->end = EventCurveEnd::kVanished;
@@ -418,8 +131,8 @@ bool LocateOnBranch(EventSolver& solver, const TracePoint& lo, const TracePoint&
     return false;
   }
   if (a.omega > c.omega) std::swap(a, c);  // a below b below c in ω
-  if (b.event > 0.0 && c.event <= 0.0) return Locate(solver, b, c, peak, why);
-  if (b.event <= 0.0 && a.event > 0.0) return Locate(solver, a, b, peak, why);
+  if (b.event > 0.0 && c.event <= 0.0) return event_search::Locate(solver, b, c, peak, why);
+  if (b.event <= 0.0 && a.event > 0.0) return event_search::Locate(solver, a, b, peak, why);
   *why = "dm/domega does not change sign from omega=" + Format(a.omega) + " to " + Format(c.omega);
   return false;
 }
@@ -438,7 +151,7 @@ bool LocateCrossing(EventSolver& solver, const TracePoint& before, const TracePo
            " to " + Format(b.omega);
     return false;
   }
-  return Locate(solver, a, b, point, why);
+  return event_search::Locate(solver, a, b, point, why);
 }
 
 // Where a curve starts: an event between branch points, to be located.

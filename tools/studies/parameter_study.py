@@ -876,18 +876,13 @@ def main():
     md.append(table(["command", "exit", "seconds", "skipped"],
                     [[f"`{name}`", code, f"{s:.1f}", "yes" if skip else ""]
                      for name, _, code, s, skip in runner.log]))
-    md.append("\n@FINDINGS@\n")
 
     total = time.monotonic() - started
     text = "\n".join(md).rstrip().replace("@TOTAL_SECONDS@", f"{total:.0f}")
-    findings = os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                            "parameter_study_findings.md")
-    text = text.replace("\n@FINDINGS@", "")
     with open(args.markdown, "w") as handle:
         handle.write(text + "\n")
     print(f"parameter_study: runs {runs_seconds:.1f} s, total {total:.1f} s; wrote "
           f"{args.markdown} and {os.path.relpath(args.figures, REPO)}/")
-    del findings
     return 0
 
 
