@@ -27,8 +27,8 @@ constexpr int kEasySolves = 2 * event_search::kEventProbes + 10;
 constexpr double kStepGrowth = 1.5;
 // A step that would leave less than a quarter step to the target goes all the way.
 constexpr double kLandingReach = 1.25;
-// A maximum below this fraction of the largest one on the curve is of a response that has
-// vanished (a friction damper stuck throughout): its ω is rounding, so the curve ends.
+// A maximum below this fraction of the largest one on the curve (or the branch) is of a response
+// that has vanished (a friction damper stuck throughout): its ω is rounding; not followed.
 constexpr double kVanishedMeasure = 1e-9;
 
 std::string Format(double value) { return event_search::FormatValue(value); }
@@ -133,8 +133,11 @@ bool LocateOnBranch(EventSolver& solver, const TracePoint& lo, const TracePoint&
   if (a.omega > c.omega) std::swap(a, c);  // a below b below c in ω
   if (b.event > 0.0 && c.event <= 0.0) return event_search::Locate(solver, b, c, peak, why);
   if (b.event <= 0.0 && a.event > 0.0) return event_search::Locate(solver, a, b, peak, why);
-  *why = "dm/domega does not change sign from omega=" + Format(a.omega) + " to " + Format(c.omega);
-  return false;
+  if (a.event > 0.0 && c.event <= 0.0) return event_search::Locate(solver, a, c, peak, why);
+  // The slopes at the points disagree with their measures (the ripple of a nonsmooth branch
+  // between them): the highest point's window is searched instead.
+  *peak = b;
+  return event_search::Polish(solver, peak, why);
 }
 
 // The Neimark–Sacker point between the branch points around a localised one.
@@ -170,9 +173,12 @@ std::vector<Start> PeakStarts(const Case& the_case, const TraceResult& trace,
                            ? sample.measure
                            : std::numeric_limits<double>::quiet_NaN());
   }
+  double largest = 0.0;
+  for (double m : measures) largest = std::max(largest, std::isnan(m) ? 0.0 : m);
   std::vector<Start> starts;
   for (size_t i = 1; i + 1 < measures.size(); ++i) {
     if (!(measures[i] > measures[i - 1] && measures[i] >= measures[i + 1])) continue;
+    if (!(measures[i] > kVanishedMeasure * largest)) continue;  // rounding of a vanished response
     const double lo = trace.points[i - 1].point.lambda, mid = trace.points[i].point.lambda;
     if ((mid - lo) * (trace.points[i + 1].point.lambda - mid) <= 0.0) {
       result->notes.push_back("the maximum at point " + std::to_string(i) + " (omega=" +

@@ -90,7 +90,7 @@ static bool Refine(EventSolver& solver, Sample rising, Sample falling, Sample* p
 }
 
 // Moves a located maximum to the highest one within the cluster window around it.
-static bool Polish(EventSolver& solver, Sample* peak, std::string* why) {
+bool Polish(EventSolver& solver, Sample* peak, std::string* why) {
   for (int round = 0; round < kPolishRounds; ++round) {
     const double delta = kClusterWindow * std::abs(peak->omega) / kEventProbes;
     std::vector<Sample> probes = {*peak};  // in increasing ω

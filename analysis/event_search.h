@@ -148,6 +148,11 @@ class EventSolver {
 // polished to the highest maximum of its cluster. False with `why` if a solve fails.
 bool Locate(EventSolver& solver, const Sample& a, const Sample& b, Sample* found, std::string* why);
 
+// Moves a located maximum to the highest one within a small window around it (on a nonsmooth
+// branch the top of a resonance can hold several ~1e-4 apart in ω); a sample that is the
+// highest of its window stays as it is. False with `why` if a refinement's solve fails.
+bool Polish(EventSolver& solver, Sample* peak, std::string* why);
+
 // The event nearest ω_pred on `solver`'s system, from the prediction (ω_pred, y_pred) after the
 // last curve point (last_omega, last_y): bracketed by walking with doubling steps — uphill for
 // a peak, towards the smaller |event| for a Neimark–Sacker point — within reach of the
