@@ -31,7 +31,7 @@ CommandLine::CommandLine(std::string command, const std::vector<std::string>& ar
     const auto spec = std::find_if(specs_.begin(), specs_.end(),
                                    [&](const OptionSpec& s) { return s.name == name; });
     if (spec == specs_.end()) throw Error("unknown option " + name);
-    if (values_.count(name)) throw Error(name + ": given more than once");
+    if (values_.count(name) && !spec->repeatable) throw Error(name + ": given more than once");
     std::string value;
     if (!spec->takes_value) {
       if (equals != std::string::npos) throw Error(name + ": takes no value");
@@ -42,6 +42,7 @@ CommandLine::CommandLine(std::string command, const std::vector<std::string>& ar
     }
     if (spec->takes_value && value.empty()) throw Error(name + ": missing value");
     values_[name] = value;
+    options_.push_back({name, value});
   }
 }
 
@@ -51,6 +52,9 @@ UsageError CommandLine::Error(const std::string& message) const {
 
 const OptionSpec& CommandLine::Spec(const std::string& name) const {
   for (const OptionSpec& spec : specs_) {
+    if (spec.name == name && spec.repeatable) {
+      throw std::logic_error(name + " may be repeated: read it from options()");
+    }
     if (spec.name == name) return spec;
   }
   throw std::logic_error("nfrc " + command_ + ": option " + name + " was not declared");
@@ -116,14 +120,19 @@ std::optional<int> CommandLine::Int(const std::string& name, int min, int max) c
 std::vector<double> CommandLine::Range(const std::string& name, int max_count) const {
   const std::optional<std::string> text = Value(name);
   if (!text) return {};
-  const size_t first = text->find(':');
-  const size_t second = first == std::string::npos ? first : text->find(':', first + 1);
+  return ParseRange(name, *text, max_count);
+}
+
+std::vector<double> CommandLine::ParseRange(const std::string& name, const std::string& text,
+                                            int max_count) const {
+  const size_t first = text.find(':');
+  const size_t second = first == std::string::npos ? first : text.find(':', first + 1);
   if (second == std::string::npos)
-    throw Error(name + ": expected FROM:TO:COUNT, got " + Quoted(*text));
-  const double from = ParseNumber(name, text->substr(0, first), NumberDomain::kFinite);
+    throw Error(name + ": expected FROM:TO:COUNT, got " + Quoted(text));
+  const double from = ParseNumber(name, text.substr(0, first), NumberDomain::kFinite);
   const double to =
-      ParseNumber(name, text->substr(first + 1, second - first - 1), NumberDomain::kFinite);
-  const int count = ParseInt(name, text->substr(second + 1), 2, max_count);
+      ParseNumber(name, text.substr(first + 1, second - first - 1), NumberDomain::kFinite);
+  const int count = ParseInt(name, text.substr(second + 1), 2, max_count);
   std::vector<double> values;
   for (int k = 0; k < count; ++k) values.push_back(from + (to - from) * k / (count - 1));
   return values;
@@ -131,14 +140,19 @@ std::vector<double> CommandLine::Range(const std::string& name, int max_count) c
 
 std::vector<double> CommandLine::NumberList(const std::string& name, NumberDomain domain) const {
   const std::optional<std::string> text = Value(name);
+  if (!text) return {};
+  return ParseNumberList(name, *text, domain);
+}
+
+std::vector<double> CommandLine::ParseNumberList(const std::string& name, const std::string& text,
+                                                 NumberDomain domain) const {
   std::vector<double> list;
-  if (!text) return list;
   // Every item between commas must be a number: "1,,2" and "1,2," are errors.
   size_t begin = 0;
   while (true) {
-    const size_t comma = text->find(',', begin);
-    const std::string item = text->substr(begin, comma - begin);
-    if (item.empty()) throw Error(name + ": empty item in list " + Quoted(*text));
+    const size_t comma = text.find(',', begin);
+    const std::string item = text.substr(begin, comma - begin);
+    if (item.empty()) throw Error(name + ": empty item in list " + Quoted(text));
     list.push_back(ParseNumber(name, item, domain));
     if (comma == std::string::npos) return list;
     begin = comma + 1;

@@ -22,11 +22,21 @@ class UsageError : public std::runtime_error {
 struct OptionSpec {
   std::string name;
   bool takes_value = true;
+  bool repeatable = false;  // may be given more than once
 
   // `--name VALUE` or `--name=VALUE`.
-  static OptionSpec Value(std::string name) { return {std::move(name), true}; }
+  static OptionSpec Value(std::string name) { return {std::move(name), true, false}; }
   // `--name` alone.
-  static OptionSpec Flag(std::string name) { return {std::move(name), false}; }
+  static OptionSpec Flag(std::string name) { return {std::move(name), false, false}; }
+  // `--name VALUE`, any number of times: read with CommandLine::options() (in order), not with
+  // the getters, which take one value.
+  static OptionSpec Repeated(std::string name) { return {std::move(name), true, true}; }
+};
+
+// An option as given on the command line; flags have an empty value.
+struct GivenOption {
+  std::string name;
+  std::string value;
 };
 
 // Which numbers an option accepts; every number must be finite.
@@ -37,7 +47,8 @@ enum class NumberDomain { kFinite, kPositive };
 // before any work starts; the typed getters then check each value, naming the option. An
 // argument starting with "--" never serves as a value (so `--out --omega 1` is "--out: missing
 // value"); write `--out=--odd-name` for such a value. A lone "-" is a positional argument and
-// "--" ends the options. Getters for an option not in the specs throw std::logic_error.
+// "--" ends the options. Getters for an option not in the specs, or for a Repeated one, throw
+// std::logic_error.
 class CommandLine {
  public:
   // `command` is how messages name the subcommand ("run" gives "nfrc run: ...").
@@ -46,6 +57,9 @@ class CommandLine {
 
   // The arguments that are not options or their values, in order.
   const std::vector<std::string>& positionals() const { return positionals_; }
+  // Every option given, in command-line order (for options whose meaning depends on their
+  // neighbours, such as `nfrc sweep`'s --parameter followed by its --values).
+  const std::vector<GivenOption>& options() const { return options_; }
 
   // True if the flag was given.
   bool Flag(const std::string& name) const;
@@ -62,6 +76,12 @@ class CommandLine {
   // Comma-separated numbers ("1,2.5,3"), each finite and in `domain`; empty if absent.
   std::vector<double> NumberList(const std::string& name,
                                  NumberDomain domain = NumberDomain::kFinite) const;
+  // The parsers of Range and NumberList, for a value taken from options(): `name` is the
+  // option that messages name.
+  std::vector<double> ParseRange(const std::string& name, const std::string& text,
+                                 int max_count) const;
+  std::vector<double> ParseNumberList(const std::string& name, const std::string& text,
+                                      NumberDomain domain = NumberDomain::kFinite) const;
   // One of `allowed`; nullopt if absent.
   std::optional<std::string> Choice(const std::string& name,
                                     const std::vector<std::string>& allowed) const;
@@ -78,6 +98,7 @@ class CommandLine {
   std::string command_;
   std::vector<OptionSpec> specs_;
   std::map<std::string, std::string> values_;  // given options; flags map to ""
+  std::vector<GivenOption> options_;           // the same, in order, repeats included
   std::vector<std::string> positionals_;
 };
 

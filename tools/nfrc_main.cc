@@ -60,9 +60,11 @@ constexpr const char* kUsage =
     "                                 Neimark-Sacker point, --measure only reported\n"
     "                                 (DIR/neimark_sacker_curve.json)\n"
     "  nfrc sweep CASE.json --parameter PATH (--values V1,V2,... | --range FROM:TO:COUNT)\n"
-    "              --out DIR [--jobs N]\n"
-    "                                 one branch per value in DIR/<k>/, DIR/sweep.json\n"
-    "                                 rewritten as runs finish; resumes a sweep in DIR\n"
+    "              [--parameter PATH2 (--values ... | --range ...) ...] --out DIR [--jobs N]\n"
+    "                                 one branch per value (several --parameter: per point of\n"
+    "                                 their grid, the last varying fastest) in DIR/<k>/,\n"
+    "                                 DIR/sweep.json rewritten as runs finish; resumes a sweep\n"
+    "                                 in DIR\n"
     "  nfrc plot DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output BASE]\n"
     "              [--labels A,B] [--xlim MIN,MAX] [--title TEXT]\n"
     "                                 draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
@@ -274,26 +276,73 @@ int ReportSweep(const std::vector<nfrc::SweepRun>& runs, const std::string& out_
                                                                         : kExitRunIncomplete;
 }
 
+// The parameters of `nfrc sweep`, each with the --values or --range given after it (before the
+// next --parameter). With one --parameter the order does not matter, as before grids.
+struct SweepAxisArgs {
+  std::string path;
+  std::vector<double> values;
+};
+
+std::vector<SweepAxisArgs> SweepAxes(const nfrc::CommandLine& line) {
+  std::vector<std::string> paths;
+  for (const nfrc::GivenOption& option : line.options()) {
+    if (option.name != "--parameter") continue;
+    if (std::find(paths.begin(), paths.end(), option.value) != paths.end()) {
+      throw line.Error("--parameter " + option.value + ": given more than once");
+    }
+    paths.push_back(option.value);
+  }
+  if (paths.empty()) throw line.Error("needs --parameter PATH");
+  std::vector<std::vector<nfrc::GivenOption>> lists(paths.size());
+  size_t axis = 0;  // the --parameter the next value list belongs to, plus one
+  for (const nfrc::GivenOption& option : line.options()) {
+    if (option.name == "--parameter") ++axis;
+    if (option.name != "--values" && option.name != "--range") continue;
+    if (paths.size() > 1 && axis == 0) {
+      throw line.Error(option.name + ": give it after the --parameter PATH it is for");
+    }
+    lists[paths.size() == 1 ? 0 : axis - 1].push_back(option);
+  }
+  std::vector<SweepAxisArgs> axes;
+  double runs = 1.0;  // a double: the product of a few large axes must not wrap around
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const std::string named = "--parameter " + paths[i] + ": ";
+    if (lists[i].empty()) {
+      throw line.Error(named + "needs --values V1,V2,... or --range FROM:TO:COUNT after it");
+    }
+    if (lists[i].size() > 1) {
+      throw line.Error(named + "give one of --values or --range, not " + lists[i][0].name +
+                       " and " + lists[i][1].name);
+    }
+    const nfrc::GivenOption& list = lists[i][0];
+    axes.push_back({paths[i], list.name == "--range"
+                                  ? line.ParseRange(list.name, list.value,
+                                                    static_cast<int>(nfrc::kMaxSweepRuns))
+                                  : line.ParseNumberList(list.name, list.value)});
+    runs *= static_cast<double>(axes.back().values.size());
+  }
+  if (runs > static_cast<double>(nfrc::kMaxSweepRuns)) {
+    throw line.Error("--parameter: the grid has " + std::to_string(static_cast<long long>(runs)) +
+                     " runs, more than " + std::to_string(nfrc::kMaxSweepRuns));
+  }
+  return axes;
+}
+
 int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   using nfrc::OptionSpec;
-  const nfrc::CommandLine line(
-      "sweep", args,
-      {OptionSpec::Value("--out"), OptionSpec::Value("--parameter"), OptionSpec::Value("--values"),
-       OptionSpec::Value("--range"), OptionSpec::Value("--jobs")});
+  const nfrc::CommandLine line("sweep", args,
+                               {OptionSpec::Value("--out"), OptionSpec::Repeated("--parameter"),
+                                OptionSpec::Repeated("--values"), OptionSpec::Repeated("--range"),
+                                OptionSpec::Value("--jobs")});
   const CaseAndOut io = RequireCaseAndOut(line);
-  const std::optional<std::string> path = line.Value("--parameter");
-  if (!path) throw line.Error("needs --parameter PATH");
-  std::vector<double> values = line.NumberList("--values");
-  // More than 10⁵ branches is not a sweep this machine class finishes.
-  const std::vector<double> range = line.Range("--range", 100000);
-  if (values.empty() == range.empty()) {
-    throw line.Error("needs one of --values V1,V2,... or --range FROM:TO:COUNT");
-  }
-  if (!range.empty()) values = range;
+  const std::vector<SweepAxisArgs> axes = SweepAxes(line);
   // Two cores here; a few hundred threads is more than any machine this runs on has.
   const int jobs = line.Int("--jobs", 1, 256).value_or(1);
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
-  const nfrc::CaseParameter parameter(*path, file.the_case);
+  nfrc::SweepGrid grid;
+  for (const SweepAxisArgs& axis : axes) {
+    grid.push_back({nfrc::CaseParameter(axis.path, file.the_case), axis.values});
+  }
   if (nfrc::LaunchedRanks() > 1) {
     if (jobs != 1) {
       throw line.Error(
@@ -301,8 +350,8 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
           "ranks instead)");
     }
     const nfrc::RankSession session;
-    const std::vector<nfrc::SweepRun> runs = nfrc::RunSweepOnRanks(
-        session, file, parameter, values, io.out_dir, &std::cerr, &stop.flag());
+    const std::vector<nfrc::SweepRun> runs =
+        nfrc::RunSweepOnRanks(session, file, grid, io.out_dir, &std::cerr, &stop.flag());
     if (session.rank() != 0) return kExitOk;  // rank 0 reports for all
     return ReportSweep(runs, io.out_dir, stop);
   }
@@ -311,8 +360,7 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   options.jobs = jobs;
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  return ReportSweep(nfrc::RunSweep(file, parameter, values, io.out_dir, options), io.out_dir,
-                     stop);
+  return ReportSweep(nfrc::RunSweep(file, grid, io.out_dir, options), io.out_dir, stop);
 }
 
 // Runs tools/<script> with the arguments under the system Python; its exit status.

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <thread>
 #include <utility>
 
@@ -20,9 +21,18 @@
 namespace nfrc {
 namespace {
 
-nlohmann::json RunJson(const SweepRun& run, const std::string& parameter) {
+// The run's values by path.
+nlohmann::json RunValues(const SweepRun& run, const SweepGrid& grid) {
+  nlohmann::json values = nlohmann::json::object();
+  for (size_t i = 0; i < grid.size() && i < run.values.size(); ++i) {
+    values[grid[i].parameter.path()] = run.values[i];
+  }
+  return values;
+}
+
+nlohmann::json RunJson(const SweepRun& run, const SweepGrid& grid) {
   return {{"index", run.index},
-          {"values", {{parameter, run.value}}},
+          {"values", RunValues(run, grid)},
           {"dir", run.dir},
           {"status", run.status},
           {"termination", run.termination},
@@ -55,15 +65,14 @@ std::map<std::string, double> Peaks(const TraceResult& trace, const Case& the_ca
   return peaks;
 }
 
-SweepRun RunFromJson(const nlohmann::json& run, const std::vector<double>& values) {
-  SweepRun record;
-  record.index = run.value("index", -1);
-  if (record.index < 0 || record.index >= static_cast<int>(values.size())) {
-    throw InputError("--out: a sweep record names run " + std::to_string(record.index) +
+SweepRun RunFromJson(const nlohmann::json& run, const SweepGrid& grid) {
+  const int index = run.value("index", -1);
+  if (index < 0 || static_cast<size_t>(index) >= GridSize(grid)) {
+    throw InputError("--out: a sweep record names run " + std::to_string(index) +
                      ", which this sweep does not have");
   }
-  record.value = values[static_cast<size_t>(record.index)];
-  record.dir = run.value("dir", "");
+  SweepRun record = PendingRun(grid, static_cast<size_t>(index));
+  record.dir = run.value("dir", record.dir);
   record.status = run.value("status", "pending");
   record.termination = run.value("termination", "");
   record.message = run.value("message", "");
@@ -84,19 +93,34 @@ nlohmann::json ReadJson(const std::string& path) {
   }
 }
 
-// Runs from an earlier sweep.json of the same sweep, complete ones only.
-std::vector<SweepRun> Previous(const std::string& path, const std::string& parameter,
-                               const std::vector<double>& values) {
+// sweep.json's "parameters": [{"path", "values"}], one per axis in grid order.
+nlohmann::json AxesJson(const SweepGrid& grid) {
+  nlohmann::json axes = nlohmann::json::array();
+  for (const SweepAxis& axis : grid) {
+    axes.push_back({{"path", axis.parameter.path()}, {"values", axis.values}});
+  }
+  return axes;
+}
+
+// Runs from an earlier sweep.json of the same sweep, complete ones only. A record written
+// before grids has only the one-parameter "parameter" and "values".
+std::vector<SweepRun> Previous(const std::string& path, const SweepGrid& grid) {
   std::vector<SweepRun> kept;
   if (!std::filesystem::exists(path)) return kept;
   const nlohmann::json old = ReadJson(path);
-  if (!old.is_object() || old.value("parameter", "") != parameter ||
-      old.value("values", std::vector<double>{}) != values) {
-    throw InputError("--out: " + path + " holds another sweep (parameter or values differ)");
+  nlohmann::json axes;
+  if (old.is_object() && old.contains("parameters")) {
+    axes = old["parameters"];
+  } else if (old.is_object()) {
+    axes = nlohmann::json::array({{{"path", old.value("parameter", "")},
+                                   {"values", old.value("values", std::vector<double>{})}}});
+  }
+  if (axes != AxesJson(grid)) {
+    throw InputError("--out: " + path + " holds another sweep (parameters or values differ)");
   }
   for (const nlohmann::json& run : old.value("runs", nlohmann::json::array())) {
     if (run.value("status", "") != "complete") continue;
-    SweepRun record = RunFromJson(run, values);
+    SweepRun record = RunFromJson(run, grid);
     record.resumed = true;
     kept.push_back(std::move(record));
   }
@@ -126,35 +150,90 @@ nlohmann::json WithField(nlohmann::json source, const std::string& path, double 
   return source;
 }
 
-std::vector<SweepRun> PlanSweep(const CaseParameter& parameter, const std::vector<double>& values,
-                                const std::string& out_dir) {
-  if (values.empty()) throw InputError("--values: no values to sweep");
-  for (double value : values) {
-    if (!std::isfinite(value)) throw InputError("--values: every value must be finite");
+void CheckGrid(const SweepGrid& grid) {
+  if (grid.empty()) throw InputError("--parameter: no parameter to sweep");
+  double runs = 1.0;  // a double: the product of a few large axes must not wrap around
+  for (size_t i = 0; i < grid.size(); ++i) {
+    const std::string& path = grid[i].parameter.path();
+    for (size_t j = 0; j < i; ++j) {
+      if (grid[j].parameter.path() == path) {
+        throw InputError("--parameter: " + path + " is swept twice");
+      }
+    }
+    if (grid[i].values.empty()) throw InputError("--values: no values to sweep for " + path);
+    runs *= static_cast<double>(grid[i].values.size());
+  }
+  if (runs > static_cast<double>(kMaxSweepRuns)) {
+    throw InputError("--values: the grid has " + std::to_string(static_cast<long long>(runs)) +
+                     " runs, more than " + std::to_string(kMaxSweepRuns));
+  }
+}
+
+size_t GridSize(const SweepGrid& grid) {
+  if (grid.empty()) return 0;
+  size_t size = 1;
+  for (const SweepAxis& axis : grid) size *= axis.values.size();
+  return size;
+}
+
+std::vector<double> GridPoint(const SweepGrid& grid, size_t index) {
+  std::vector<double> point(grid.size());
+  // Row-major: peel the fastest (last) axis off first.
+  for (size_t i = grid.size(); i-- > 0;) {
+    const size_t size = grid[i].values.size();
+    point[i] = grid[i].values[index % size];
+    index /= size;
+  }
+  return point;
+}
+
+Case CaseAtGridPoint(const Case& the_case, const SweepGrid& grid,
+                     const std::vector<double>& point) {
+  Case changed = the_case;
+  for (size_t i = 0; i < grid.size(); ++i) grid[i].parameter.Set(&changed, point[i]);
+  changed.Validate();
+  return changed;
+}
+
+SweepRun PendingRun(const SweepGrid& grid, size_t index) {
+  SweepRun run;
+  run.index = static_cast<int>(index);
+  run.values = GridPoint(grid, index);
+  run.dir = std::to_string(index);
+  return run;
+}
+
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& out_dir) {
+  CheckGrid(grid);
+  for (const SweepAxis& axis : grid) {
+    for (double value : axis.values) {
+      if (!std::isfinite(value)) {
+        throw InputError("--values: every value must be finite (" + axis.parameter.path() + ")");
+      }
+    }
   }
   std::filesystem::create_directories(out_dir);
-  std::vector<SweepRun> runs(values.size());
-  for (size_t k = 0; k < values.size(); ++k) {
-    runs[k].index = static_cast<int>(k);
-    runs[k].value = values[k];
-    runs[k].dir = std::to_string(k);
-  }
-  for (SweepRun& kept : Previous(out_dir + "/sweep.json", parameter.path(), values)) {
+  std::vector<SweepRun> runs;
+  for (size_t k = 0; k < GridSize(grid); ++k) runs.push_back(PendingRun(grid, k));
+  for (SweepRun& kept : Previous(out_dir + "/sweep.json", grid)) {
     runs[static_cast<size_t>(kept.index)] = std::move(kept);
   }
   return runs;
 }
 
-SweepRun TraceSweepRun(const CaseFile& file, const CaseParameter& parameter, SweepRun run,
+SweepRun TraceSweepRun(const CaseFile& file, const SweepGrid& grid, SweepRun run,
                        const std::string& out_dir, const std::atomic<bool>* stop) {
   const std::string dir = out_dir + "/" + run.dir;
   std::filesystem::remove(dir + "/run.json");
   const auto start = std::chrono::steady_clock::now();
   try {
-    const Case the_case = parameter.With(file.the_case, run.value);
+    const Case the_case = CaseAtGridPoint(file.the_case, grid, run.values);
+    nlohmann::json source = file.source;
+    for (size_t i = 0; i < grid.size(); ++i) {
+      source = WithField(std::move(source), grid[i].parameter.path(), run.values[i]);
+    }
     TraceResult trace;
-    RunCase(the_case, dir, nullptr, stop, WithField(file.source, parameter.path(), run.value),
-            &trace);
+    RunCase(the_case, dir, nullptr, stop, source, &trace);
     const ContinuationSummary& summary = trace.branch.summary;
     run.termination = ToString(summary.reason);
     run.message = summary.message;
@@ -171,38 +250,55 @@ SweepRun TraceSweepRun(const CaseFile& file, const CaseParameter& parameter, Swe
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::filesystem::create_directories(dir);
-  WriteJsonAtomically(dir + "/run.json", RunJson(run, parameter.path()));
+  WriteJsonAtomically(dir + "/run.json", RunJson(run, grid));
   return run;
 }
 
 std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
-                                      const std::vector<double>& values) {
+                                      const SweepGrid& grid) {
   const std::string path = out_dir + "/" + run.dir + "/run.json";
   if (!std::filesystem::exists(path)) return std::nullopt;
-  return RunFromJson(ReadJson(path), values);
+  return RunFromJson(ReadJson(path), grid);
 }
 
-void WriteSweepRecord(const std::string& out_dir, const CaseParameter& parameter,
-                      const std::vector<double>& values, const std::vector<SweepRun>& runs) {
-  nlohmann::json document = {
-      {"parameter", parameter.path()}, {"values", values}, {"runs", nlohmann::json::array()}};
-  for (const SweepRun& run : runs) document["runs"].push_back(RunJson(run, parameter.path()));
+void WriteSweepRecord(const std::string& out_dir, const SweepGrid& grid,
+                      const std::vector<SweepRun>& runs) {
+  nlohmann::json document = nlohmann::json::object();
+  // One parameter: the fields readers of sweeps before grids know, kept.
+  if (grid.size() == 1) {
+    document["parameter"] = grid[0].parameter.path();
+    document["values"] = grid[0].values;
+  }
+  document["parameters"] = AxesJson(grid);
+  document["runs"] = nlohmann::json::array();
+  for (const SweepRun& run : runs) document["runs"].push_back(RunJson(run, grid));
   WriteJsonAtomically(out_dir + "/sweep.json", document);
 }
 
-void PrintRun(std::ostream* progress, const CaseParameter& parameter, const SweepRun& run) {
+void PrintRun(std::ostream* progress, const SweepGrid& grid, const SweepRun& run) {
   if (progress == nullptr) return;
-  *progress << "nfrc: run " << run.index << " (" << parameter.path() << "=" << run.value
-            << "): " << run.status << ", " << run.points << " points, " << run.seconds << " s"
-            << (run.message.empty() ? "" : ": ") << run.message << "\n";
+  std::string at;
+  for (size_t i = 0; i < grid.size() && i < run.values.size(); ++i) {
+    std::ostringstream value;
+    value << run.values[i];
+    at += (i == 0 ? "" : ", ") + grid[i].parameter.path() + "=" + value.str();
+  }
+  *progress << "nfrc: run " << run.index << " (" << at << "): " << run.status << ", " << run.points
+            << " points, " << run.seconds << " s" << (run.message.empty() ? "" : ": ")
+            << run.message << "\n";
 }
 
 std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parameter,
                                const std::vector<double>& values, const std::string& out_dir,
                                const SweepOptions& options) {
+  return RunSweep(file, SweepGrid{{parameter, values}}, out_dir, options);
+}
+
+std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepGrid& grid,
+                               const std::string& out_dir, const SweepOptions& options) {
   if (options.jobs < 1) throw InputError("--jobs: must be at least 1");
-  std::vector<SweepRun> runs = PlanSweep(parameter, values, out_dir);
-  WriteSweepRecord(out_dir, parameter, values, runs);
+  std::vector<SweepRun> runs = PlanSweep(grid, out_dir);
+  WriteSweepRecord(out_dir, grid, runs);
   std::vector<size_t> todo;
   for (size_t k = 0; k < runs.size(); ++k) {
     if (!runs[k].resumed) todo.push_back(k);
@@ -217,11 +313,11 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parame
     for (size_t i = next++; i < todo.size() && !aborted.load(); i = next++) {
       if (options.stop != nullptr && options.stop->load()) return;
       try {
-        const SweepRun run = TraceSweepRun(file, parameter, runs[todo[i]], out_dir, options.stop);
+        const SweepRun run = TraceSweepRun(file, grid, runs[todo[i]], out_dir, options.stop);
         const std::lock_guard<std::mutex> lock(mutex);
         runs[todo[i]] = run;
-        WriteSweepRecord(out_dir, parameter, values, runs);
-        PrintRun(options.progress, parameter, run);
+        WriteSweepRecord(out_dir, grid, runs);
+        PrintRun(options.progress, grid, run);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!first_error) first_error = std::current_exception();

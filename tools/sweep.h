@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <iosfwd>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -13,11 +14,38 @@
 
 namespace nfrc {
 
+// One parameter of a sweep and the values it takes, in order.
+struct SweepAxis {
+  CaseParameter parameter;
+  std::vector<double> values;
+};
+
+// The parameters of a sweep: one run per point of the Cartesian product of their values, in
+// row-major order (the last parameter varies fastest): with two parameters of n0 and n1
+// values, run k is at (values0[k / n1], values1[k % n1]). One axis is a plain sweep.
+using SweepGrid = std::vector<SweepAxis>;
+
+// Runs a sweep may have: more branches than this is not a sweep one machine finishes (and a
+// typo such as COUNT 1000 on three axes is caught before anything is written).
+inline constexpr size_t kMaxSweepRuns = 100000;
+
+// InputError unless the grid has a shape that can be swept: at least one parameter, no path
+// twice (naming --parameter), values on every axis and at most kMaxSweepRuns runs (naming
+// --values). Values the case refuses are left to each run.
+void CheckGrid(const SweepGrid& grid);
+// The number of runs (the product of the axes' sizes); GridPoint: run `index`'s value of
+// each axis, in the grid's order.
+size_t GridSize(const SweepGrid& grid);
+std::vector<double> GridPoint(const SweepGrid& grid, size_t index);
+// A copy of `the_case` with every axis' field at `point` (one value per axis), validated once
+// all are set (so that fields checked together are never seen half-changed).
+Case CaseAtGridPoint(const Case& the_case, const SweepGrid& grid, const std::vector<double>& point);
+
 // One branch of a sweep, as DIR/sweep.json records it.
 struct SweepRun {
   int index = 0;
-  double value = 0.0;  // of the swept parameter
-  std::string dir;     // relative to the sweep's directory
+  std::vector<double> values;  // of the swept parameters, one per axis of the grid
+  std::string dir;             // relative to the sweep's directory
   // "complete" (the branch reached the end of its range), "failed" (bad input at this value,
   // or a numerical failure: `message` says which), "interrupted" or "pending".
   std::string status = "pending";
@@ -36,32 +64,37 @@ struct SweepOptions {
   const std::atomic<bool>* stop = nullptr;  // raised: running branches stop after their point
 };
 
-// `nfrc sweep`: one branch per value of the parameter, each traced and written as `nfrc run`
-// does into DIR/<k>/, and DIR/sweep.json (parameter, values, runs) rewritten atomically as
-// runs finish (and each run in DIR/<k>/run.json). A run that fails is a status, never the end of
-// the sweep. If DIR/sweep.json already holds this sweep (same parameter and values), its complete
-// runs are kept and the others traced again (resume); a different sweep there is an InputError
-// naming --out.
+// `nfrc sweep`: one branch per grid point, each traced and written as `nfrc run` does into
+// DIR/<k>/ (k the run's index in grid order), and DIR/sweep.json (parameters, values, runs)
+// rewritten atomically as runs finish (and each run in DIR/<k>/run.json). A run that fails is a
+// status, never the end of the sweep. If DIR/sweep.json already holds this sweep (same
+// parameters and values), its complete runs are kept and the others traced again (resume); a
+// different sweep there is an InputError naming --out. sweep.json has "parameters": [{"path",
+// "values"}] and, for one parameter only, the "parameter" and "values" of that axis as well.
+std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepGrid& grid,
+                               const std::string& out_dir, const SweepOptions& options);
+// One parameter: RunSweep of the grid {{parameter, values}}.
 std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parameter,
                                const std::vector<double>& values, const std::string& out_dir,
                                const SweepOptions& options);
 
 // The pieces RunSweep is made of, for other ways of distributing runs (MPI ranks):
 // - PlanSweep: the runs of the sweep in `out_dir` (created): complete runs of an earlier
-//   DIR/sweep.json of the same sweep kept (`resumed`), the others pending; InputError naming
-//   --values or --out as RunSweep.
+//   DIR/sweep.json of the same sweep kept (`resumed`), the others pending; InputError as
+//   CheckGrid, for a value that is not finite (naming --values), or naming --out as RunSweep.
+// - PendingRun: run `index` of the grid, not yet traced.
 // - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json.
 // - ReadRunRecord: that record, if the run has one.
 // - WriteSweepRecord: DIR/sweep.json for these runs; PrintRun: the progress line of a run.
-std::vector<SweepRun> PlanSweep(const CaseParameter& parameter, const std::vector<double>& values,
-                                const std::string& out_dir);
-SweepRun TraceSweepRun(const CaseFile& file, const CaseParameter& parameter, SweepRun run,
+std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& out_dir);
+SweepRun PendingRun(const SweepGrid& grid, size_t index);
+SweepRun TraceSweepRun(const CaseFile& file, const SweepGrid& grid, SweepRun run,
                        const std::string& out_dir, const std::atomic<bool>* stop);
 std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
-                                      const std::vector<double>& values);
-void WriteSweepRecord(const std::string& out_dir, const CaseParameter& parameter,
-                      const std::vector<double>& values, const std::vector<SweepRun>& runs);
-void PrintRun(std::ostream* progress, const CaseParameter& parameter, const SweepRun& run);
+                                      const SweepGrid& grid);
+void WriteSweepRecord(const std::string& out_dir, const SweepGrid& grid,
+                      const std::vector<SweepRun>& runs);
+void PrintRun(std::ostream* progress, const SweepGrid& grid, const SweepRun& run);
 
 // The case-file JSON with the field at `path` (a CaseParameter path) set to `value`.
 nlohmann::json WithField(nlohmann::json source, const std::string& path, double value);

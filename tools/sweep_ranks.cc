@@ -35,9 +35,8 @@ RankSession::RankSession() {
 }
 RankSession::~RankSession() = default;
 
-std::vector<SweepRun> RunSweepOnRanks(const RankSession&, const CaseFile&, const CaseParameter&,
-                                      const std::vector<double>&, const std::string&, std::ostream*,
-                                      const std::atomic<bool>*) {
+std::vector<SweepRun> RunSweepOnRanks(const RankSession&, const CaseFile&, const SweepGrid&,
+                                      const std::string&, std::ostream*, const std::atomic<bool>*) {
   throw InputError("mpirun: this nfrc was built without MPI");
 }
 
@@ -59,12 +58,11 @@ std::string Broadcast(const std::string& text, int rank) {
 }
 
 // Rank 0's view: every run's latest record (run.json of the runs traced in this sweep).
-void Refresh(const std::string& out_dir, const std::vector<double>& values,
-             std::vector<SweepRun>* runs) {
+void Refresh(const std::string& out_dir, const SweepGrid& grid, std::vector<SweepRun>* runs) {
   for (SweepRun& run : *runs) {
     // Kept from an earlier sweep, or already final: nothing new can be on disk.
     if (run.resumed || run.status == "complete" || run.status == "failed") continue;
-    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, values)) run = *record;
+    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, grid)) run = *record;
   }
 }
 
@@ -81,8 +79,7 @@ RankSession::RankSession() {
 RankSession::~RankSession() { MPI_Finalize(); }
 
 std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile& file,
-                                      const CaseParameter& parameter,
-                                      const std::vector<double>& values, const std::string& out_dir,
+                                      const SweepGrid& grid, const std::string& out_dir,
                                       std::ostream* progress, const std::atomic<bool>* stop) {
   const int rank = session.rank();
   std::optional<OutputDirectoryLock> lock;
@@ -91,8 +88,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   if (rank == 0) {
     try {
       lock.emplace(out_dir);
-      runs = PlanSweep(parameter, values, out_dir);
-      WriteSweepRecord(out_dir, parameter, values, runs);
+      runs = PlanSweep(grid, out_dir);
+      WriteSweepRecord(out_dir, grid, runs);
     } catch (const std::exception& error) {
       failure = error.what();
       if (failure.empty()) failure = "planning the sweep failed";
@@ -146,15 +143,12 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
       }
       if (next >= static_cast<std::int64_t>(todo.size())) break;
       const int k = todo[static_cast<size_t>(next)];
-      SweepRun run;
-      run.index = k;
-      run.value = values[static_cast<size_t>(k)];
-      run.dir = std::to_string(k);
-      run = TraceSweepRun(file, parameter, run, out_dir, stop);
-      PrintRun(progress, parameter, run);
+      SweepRun run =
+          TraceSweepRun(file, grid, PendingRun(grid, static_cast<size_t>(k)), out_dir, stop);
+      PrintRun(progress, grid, run);
       if (rank == 0) {
-        Refresh(out_dir, values, &runs);
-        WriteSweepRecord(out_dir, parameter, values, runs);
+        Refresh(out_dir, grid, &runs);
+        WriteSweepRecord(out_dir, grid, runs);
       }
     }
   } catch (const std::exception& error) {
@@ -165,8 +159,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   MPI_Barrier(MPI_COMM_WORLD);
   if (window != MPI_WIN_NULL) MPI_Win_free(&window);
   if (rank == 0) {
-    Refresh(out_dir, values, &runs);
-    WriteSweepRecord(out_dir, parameter, values, runs);
+    Refresh(out_dir, grid, &runs);
+    WriteSweepRecord(out_dir, grid, runs);
   }
   return runs;
 }

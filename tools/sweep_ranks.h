@@ -29,8 +29,8 @@ class RankSession {
   int size_ = 1;
 };
 
-// `mpirun -n P nfrc sweep ...`: rank 0 locks DIR and plans the sweep (PlanSweep: resume
-// included); every rank then takes the next pending run from a shared counter on rank 0
+// `mpirun -n P nfrc sweep ...`: rank 0 locks DIR and plans the sweep of the grid (PlanSweep:
+// resume included); every rank then takes the next pending run from a shared counter on rank 0
 // (MPI one-sided fetch-and-add: dynamic load balancing, since branches differ a lot in cost),
 // traces it into DIR/<k>/ with its run.json, and rank 0 rewrites DIR/sweep.json from the
 // runs' records after each of its own runs and once all ranks are done. DIR must be on a
@@ -38,8 +38,7 @@ class RankSession {
 // (MPI_Abort, exit 4 or 5); bad input found while planning is an InputError on every rank.
 // Returns the runs as recorded (complete only on rank 0).
 std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile& file,
-                                      const CaseParameter& parameter,
-                                      const std::vector<double>& values, const std::string& out_dir,
+                                      const SweepGrid& grid, const std::string& out_dir,
                                       std::ostream* progress, const std::atomic<bool>* stop);
 
 }  // namespace nfrc

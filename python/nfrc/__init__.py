@@ -287,15 +287,27 @@ def neimark_sacker_curve(case, parameter, to, measure="energy", near=None, at=()
                               [float(v) for v in at], float(max_step), bool(progress))
 
 
-def sweep(case, parameter, values, progress=False):
+def sweep(case, parameter, values=None, progress=False):
     """One branch of `case` per value of `parameter` (a case-file path, as for fold_curve), in
-    order: a list of dicts with "value", "status" ("complete", "failed", "interrupted" or
-    "pending"), "message" and, for a traced run, "branch" (a Branch, as trace returns it). A
-    value the case refuses fails that run only; Ctrl-C stops the running branch, whose points
-    are kept, and leaves the rest pending. The branches run one after the other; analyses
-    release the GIL, so Python threads can run several sweeps at once. `nfrc sweep` writes the
-    same runs to disk, with threads, MPI ranks and resume."""
-    return _nfrc._sweep(case, str(parameter), [float(v) for v in values], bool(progress))
+    order: a list of dicts with "value", "values" ({parameter: value}), "status" ("complete",
+    "failed", "interrupted" or "pending"), "message" and, for a traced run, "branch" (a Branch,
+    as trace returns it). A value the case refuses fails that run only; Ctrl-C stops the
+    running branch, whose points are kept, and leaves the rest pending. The branches run one
+    after the other; analyses release the GIL, so Python threads can run several sweeps at
+    once. `nfrc sweep` writes the same runs to disk, with threads, MPI ranks and resume.
+
+    A grid of several parameters: sweep(case, {path: values, path2: values2}) or
+    sweep(case, [(path, values), (path2, values2)]), without `values`: one run per point of
+    the Cartesian product, the last parameter varying fastest (as `nfrc sweep`), each with
+    "values" ({path: v, path2: w}) and no "value"."""
+    if values is not None:
+        runs = _nfrc._sweep(case, [(str(parameter), [float(v) for v in values])], bool(progress))
+        for run in runs:
+            (run["value"],) = run["values"].values()
+        return runs
+    axes = parameter.items() if isinstance(parameter, dict) else parameter
+    return _nfrc._sweep(case, [(str(path), [float(v) for v in vals]) for path, vals in axes],
+                        bool(progress))
 
 
 def solve_at(case, omega, progress=False):

@@ -1,15 +1,18 @@
-// nfrc.fold_curve, nfrc.peak_curve and nfrc.sweep: studies in a second parameter of a case.
+// nfrc.fold_curve, nfrc.peak_curve and nfrc.sweep: studies in further parameters of a case.
 #include "analysis/fold_curve.h"
 
 #include <algorithm>
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/case_parameter.h"
 #include "analysis/event_curve.h"
 #include "bindings.h"
+#include "tools/sweep.h"
 
 namespace nfrc::python {
 
@@ -120,23 +123,30 @@ void BindFoldCurve(py::module_& m) {
 
   m.def(
       "_sweep",
-      [](const PyCase& c, const std::string& path, const std::vector<double>& values,
+      [](const PyCase& c, const std::vector<std::pair<std::string, std::vector<double>>>& axes,
          bool progress) {
         const Case the_case = c.value;
-        const CaseParameter parameter(path, the_case);
+        SweepGrid grid;
+        for (const auto& [path, values] : axes)
+          grid.push_back({CaseParameter(path, the_case), values});
+        CheckGrid(grid);
         py::list runs;
         bool interrupted = false;
-        for (double value : values) {
-          py::dict run("value"_a = value);
+        for (size_t k = 0; k < GridSize(grid); ++k) {
+          const std::vector<double> point = GridPoint(grid, k);
+          py::dict values;
+          for (size_t i = 0; i < grid.size(); ++i)
+            values[py::str(grid[i].parameter.path())] = point[i];
+          py::dict run("values"_a = values);
           if (interrupted) {
             run["status"] = "pending";
             runs.append(run);
             continue;
           }
           // A value the case refuses is the run's status, not the end of the sweep.
-          std::optional<Case> at_value;
+          std::optional<Case> at_point;
           try {
-            at_value = parameter.With(the_case, value);
+            at_point = CaseAtGridPoint(the_case, grid, point);
           } catch (const InputError& error) {
             run["status"] = "failed";
             run["message"] = error.what();
@@ -148,10 +158,10 @@ void BindFoldCurve(py::module_& m) {
           options.progress = progress ? &std::cerr : nullptr;
           options.stop = watch.stop();
           options.observer = &watch;
-          BranchView branch{{}, std::make_shared<OutputNaming>(*at_value), false};
+          BranchView branch{{}, std::make_shared<OutputNaming>(*at_point), false};
           {
             py::gil_scoped_release release;
-            branch.result = TraceCase(*at_value, options);
+            branch.result = TraceCase(*at_point, options);
           }
           branch.interrupted = watch.Finish();
           interrupted = branch.interrupted;
@@ -165,7 +175,7 @@ void BindFoldCurve(py::module_& m) {
         }
         return runs;
       },
-      "case"_a, "parameter"_a, "values"_a, "progress"_a = false);
+      "case"_a, "axes"_a, "progress"_a = false);
 }
 
 }  // namespace nfrc::python

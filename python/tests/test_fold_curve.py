@@ -44,9 +44,9 @@ def test_fold_curve_refuses_a_field_the_case_does_not_have():
         nfrc.fold_curve(case, "nonlinearities[0].mu", 0.1)
 
 
-def closed_form_peak(force):
+def closed_form_peak(force, k3=K3):
     """Largest amplitude on the one-harmonic curve: A^2 = P^2 / (c^2 (k + b A^2) - c^4 / 4)."""
-    beta, amplitude = 0.75 * K3, force / C
+    beta, amplitude = 0.75 * k3, force / C
     for _ in range(200):
         amplitude = force / math.sqrt(C * C * (K + beta * amplitude ** 2) - 0.25 * C ** 4)
     return amplitude
@@ -67,6 +67,29 @@ def test_sweep_traces_one_branch_per_value_and_fails_only_the_refused_one():
         exact = closed_form_peak(run["value"])
         assert exact * (1 - PEAK_TOLERANCE) < peak < exact * (1 + 1e-12)
     assert len(runs[0]["branch"].folds) == 0 and len(runs[2]["branch"].folds) == 2
+    assert runs[0]["values"] == {"model.forcing[0].cos": 0.05}
+
+
+def test_sweep_grid_traces_every_point_last_parameter_fastest():
+    case = nfrc.load_case(os.path.join(CASES, "duffing_h1.json"))
+    force, k3 = "model.forcing[0].cos", "nonlinearities[0].coefficient"
+    # k3 = NaN is refused: its runs fail, the others are traced.
+    runs = nfrc.sweep(case, {force: [0.05, 0.18], k3: [0.2, float("nan")]})
+    points = [(run["values"][force], run["values"][k3]) for run in runs]
+    assert points[0] == (0.05, 0.2) and points[2] == (0.18, 0.2)
+    assert [point[0] for point in points] == [0.05, 0.05, 0.18, 0.18]
+    assert math.isnan(points[1][1]) and math.isnan(points[3][1])
+    assert [run["status"] for run in runs] == ["complete", "failed", "complete", "failed"]
+    assert k3 in runs[1]["message"] and "value" not in runs[0]
+    for run in (runs[0], runs[2]):
+        peak = max(run["branch"].measure("max_abs"))
+        exact = closed_form_peak(run["values"][force], run["values"][k3])
+        assert exact * (1 - PEAK_TOLERANCE) < peak < exact * (1 + 1e-12)
+    # The same grid as (path, values) pairs, in the other order: k3 now varies slowest.
+    pairs = nfrc.sweep(case, [(k3, [0.2]), (force, [0.05, 0.18])])
+    assert [run["values"] for run in pairs] == [runs[0]["values"], runs[2]["values"]]
+    with pytest.raises(nfrc.InputError, match="swept twice"):
+        nfrc.sweep(case, [(force, [0.1]), (force, [0.2])])
 
 
 def closed_form_peak_point(force):

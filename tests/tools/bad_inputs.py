@@ -321,6 +321,25 @@ command("sweep_jobs_0", ["sweep", duffing, "--out", out, "--parameter", "model.f
                          "--values", "0.1", "--jobs", "0"], EXIT_USAGE, "--jobs")
 command("sweep_bad_path", ["sweep", duffing, "--out", out, "--parameter", "model.mass",
                            "--values", "0.1"], EXIT_INPUT, "model.mass")
+FORCE, K3 = "model.forcing[0].cos", "nonlinearities[0].coefficient"
+command("sweep_grid_parameter_without_values", ["sweep", duffing, "--out", out, "--parameter",
+                                                FORCE, "--values", "0.1", "--parameter", K3],
+        EXIT_USAGE, "--parameter " + K3, "--values")
+command("sweep_grid_two_lists", ["sweep", duffing, "--out", out, "--parameter", FORCE, "--values",
+                                 "0.1", "--range", "0.1:0.2:2", "--parameter", K3, "--values",
+                                 "0.1"], EXIT_USAGE, "--parameter " + FORCE, "--range")
+command("sweep_grid_same_path", ["sweep", duffing, "--out", out, "--parameter", FORCE, "--values",
+                                 "0.1", "--parameter", FORCE, "--values", "0.2"], EXIT_USAGE,
+        "--parameter " + FORCE, "more than once")
+command("sweep_grid_values_first", ["sweep", duffing, "--out", out, "--values", "0.1",
+                                    "--parameter", FORCE, "--parameter", K3, "--values", "0.1"],
+        EXIT_USAGE, "--values", "after the --parameter")
+command("sweep_grid_too_large", ["sweep", duffing, "--out", out, "--parameter", FORCE, "--range",
+                                 "0:1:1000", "--parameter", K3, "--range", "0:1:1000"], EXIT_USAGE,
+        "--parameter", "1000000 runs")
+command("sweep_grid_bad_second_path", ["sweep", duffing, "--out", out, "--parameter", FORCE,
+                                       "--values", "0.1", "--parameter", "model.mass", "--values",
+                                       "0.1"], EXIT_INPUT, "model.mass")
 command("plot_measure_volume", ["plot", out, "--measure", "volume"], EXIT_USAGE, "--measure")
 
 

@@ -177,6 +177,22 @@ expect "sweep resumed" 0 "2 of 2 runs complete" -- \
 expect "sweep of another parameter refused" 1 "--out" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].mu" \
   --values 0.5 --out "$work/sweep"
+# A grid (normal load x mu, 4 runs): stopped by SIGINT in its first run, resumed, and a grid
+# with other values refused in its directory.
+fgrid=(--parameter "nonlinearities[0].normal_load" --values 10,12
+       --parameter "nonlinearities[0].mu" --values 0.9,0.8)
+# A shell without job control starts background commands with SIGINT ignored, which nfrc
+# respects: the launcher restores its default so that the SIGINT reaches nfrc's handler.
+sigint_default=(/usr/bin/python3 -c 'import os, signal, sys
+signal.signal(signal.SIGINT, signal.SIG_DFL)
+os.execv(sys.argv[1], sys.argv[1:])')
+stopped "grid sweep stopped by SIGINT" INT 1 "$work/grid/sweep.json" -- \
+  "${sigint_default[@]}" "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]}" --out "$work/grid"
+expect "grid sweep resumed" 0 "4 of 4 runs complete" -- \
+  "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]}" --out "$work/grid" --jobs 2
+expect "grid sweep of other values refused" 1 "--out" -- \
+  "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]:0:4}" \
+  --parameter "nonlinearities[0].mu" --values 0.9,0.7 --out "$work/grid"
 
 # MPI: the same sweep on two ranks writes the same sweep.json as one process (the timings
 # aside). Open MPI refuses root without the first two. Under the sanitizers its start-up
@@ -199,6 +215,27 @@ if command -v mpirun >/dev/null; then
     OMPI_MCA_btl_vader_single_copy_mechanism=none mpirun --oversubscribe -n 2 "$nfrc" sweep \
     "$src/cases/duffing_h1.json" --parameter "model.forcing[0].cos" --values 0.05,0.1,0.18 \
     --out "$work/mpi_rr"
+  # A grid (forcing x k3, the last varying fastest): the same on two ranks as in one process.
+  grid=(--parameter "model.forcing[0].cos" --values 0.05,0.18
+        --parameter "nonlinearities[0].coefficient" --range 0.1:0.2:2)
+  expect "grid sweep on two MPI ranks" 0 "4 of 4 runs complete" -- env ASAN_OPTIONS="$asan" \
+    mpirun --oversubscribe -n 2 "$nfrc" sweep "$src/cases/duffing_h1.json" "${grid[@]}" \
+    --out "$work/mpi_grid"
+  expect "the same grid sweep in one process" 0 "4 of 4 runs complete" -- "$nfrc" sweep \
+    "$src/cases/duffing_h1.json" "${grid[@]}" --out "$work/one_grid"
+  /usr/bin/python3 - "$work/mpi_grid/sweep.json" "$work/one_grid/sweep.json" <<'PY' ||
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:])
+for run in a["runs"] + b["runs"]:
+    run.pop("seconds")
+assert a == b, (a, b)
+assert [p["path"] for p in a["parameters"]] == ["model.forcing[0].cos",
+                                                "nonlinearities[0].coefficient"]
+assert [list(r["values"].values()) for r in a["runs"]] == [
+    [0.05, 0.1], [0.05, 0.2], [0.18, 0.1], [0.18, 0.2]], a["runs"]
+assert [r["folds"] for r in a["runs"]] == [0, 2, 2, 2], [r["folds"] for r in a["runs"]]
+PY
+    { echo "FAIL grid sweep.json differs between two ranks and one process"; failures=$((failures + 1)); }
   /usr/bin/python3 - "$work/mpi/sweep.json" "$work/one/sweep.json" "$work/mpi_rr/sweep.json" <<'PY' ||
 import json, sys
 a, b, c = (json.load(open(f)) for f in sys.argv[1:])

@@ -61,6 +61,34 @@ TEST_CASE("CommandLine: unknown, repeated and misused options are usage errors")
         "nfrc validate: --no-chirp: takes no value");
 }
 
+TEST_CASE("CommandLine: a Repeated option may be given again, and options() keeps the order") {
+  const std::vector<OptionSpec> specs = {OptionSpec::Repeated("--parameter"),
+                                         OptionSpec::Repeated("--values"),
+                                         OptionSpec::Value("--out"), OptionSpec::Flag("--quiet")};
+  const CommandLine line("sweep",
+                         {"case.json", "--parameter", "a", "--values=1,2", "--out", "dir",
+                          "--parameter", "b", "--values", "3", "--quiet"},
+                         specs);
+  std::vector<std::string> seen;
+  for (const GivenOption& option : line.options()) seen.push_back(option.name + " " + option.value);
+  CHECK(seen == std::vector<std::string>{"--parameter a", "--values 1,2", "--out dir",
+                                         "--parameter b", "--values 3", "--quiet "});
+  CHECK(line.positionals() == std::vector<std::string>{"case.json"});
+  CHECK(line.Value("--out") == "dir");
+  CHECK(line.ParseNumberList("--values", "1,2") == std::vector<double>{1.0, 2.0});
+  CHECK(line.ParseRange("--range", "0:1:3", 10) == std::vector<double>{0.0, 0.5, 1.0});
+  CHECK(UsageMessage([&] { line.ParseRange("--range", "0:1", 10); }) ==
+        "nfrc sweep: --range: expected FROM:TO:COUNT, got \"0:1\"");
+  // Only the Repeated ones: the others are still refused twice.
+  CHECK(UsageMessage([&] {
+          CommandLine("sweep", {"--out", "a", "--out", "b"}, specs);
+        }) == "nfrc sweep: --out: given more than once");
+  CHECK(UsageMessage([&] { CommandLine("sweep", {"--parameter"}, specs); }) ==
+        "nfrc sweep: --parameter: missing value");
+  // The one-value getters cannot pick one of several values.
+  CHECK_THROWS_AS(line.Value("--parameter"), std::logic_error);
+}
+
 TEST_CASE("CommandLine: a value may start with one dash, and -- ends the options") {
   const CommandLine line = Parse({"--omega", "-2.5", "--", "--out", "-"});
   CHECK(line.Number("--omega") == -2.5);

@@ -31,8 +31,8 @@ CaseFile CaseFileNamed(const std::string& name) {
 // One-harmonic Duffing: the amplitude equation [(1 + βA² − ω²)² + (cω)²]A² = P², β = ¾k₃.
 // For a given A the bracket is smallest at ω² = 1 + βA² − c²/2, where it is
 // c²(1 + βA²) − c⁴/4: the largest A on the curve solves A² = P²/(c²(1 + βA²) − c⁴/4).
-double ClosedFormPeak(double force) {
-  const double beta = 0.75 * kK3;
+double ClosedFormPeak(double force, double k3 = kK3) {
+  const double beta = 0.75 * k3;
   double amplitude = force / kC;
   for (int i = 0; i < 200; ++i) {
     amplitude = force / std::sqrt(kC * kC * (1.0 + beta * amplitude * amplitude) -
@@ -69,7 +69,65 @@ TEST_CASE("sweep: one branch per forcing level, peaks against the closed form, t
   std::ifstream in(dir + "/sweep.json");
   const nlohmann::json record = nlohmann::json::parse(in);
   CHECK(record["parameter"] == "model.forcing[0].cos");
+  CHECK(record["values"].get<std::vector<double>>() == values);
+  CHECK(record["parameters"] ==
+        nlohmann::json::array({{{"path", "model.forcing[0].cos"}, {"values", values}}}));
   CHECK(record["runs"].size() == 3);
+  CHECK(record["runs"][2]["values"] == nlohmann::json{{"model.forcing[0].cos", 0.18}});
+}
+
+nlohmann::json ReadRecord(const std::string& dir) {
+  std::ifstream in(dir + "/sweep.json");
+  return nlohmann::json::parse(in);
+}
+
+TEST_CASE(
+    "sweep: a grid of forcing and k3, every point against the closed form, threads = serial") {
+  const CaseFile file = CaseFileNamed("duffing_h1.json");
+  const SweepGrid grid = {
+      {CaseParameter("model.forcing[0].cos", file.the_case), {0.05, 0.1, 0.18}},
+      {CaseParameter("nonlinearities[0].coefficient", file.the_case), {0.1, 0.2}}};
+  SweepOptions options;
+  options.jobs = 2;
+  const std::string dir = OutDir("grid");
+  const std::vector<SweepRun> runs = RunSweep(file, grid, dir, options);
+  options.jobs = 1;
+  const std::vector<SweepRun> serial = RunSweep(file, grid, OutDir("grid_serial"), options);
+  REQUIRE(runs.size() == 6);
+  for (size_t k = 0; k < runs.size(); ++k) {
+    CAPTURE(k);
+    // Row-major: the last parameter (k3) varies fastest.
+    const double force = grid[0].values[k / 2], k3 = grid[1].values[k % 2];
+    CHECK(runs[k].values == std::vector<double>{force, k3});
+    CHECK(runs[k].dir == std::to_string(k));
+    CHECK(runs[k].status == "complete");
+    CHECK(std::filesystem::exists(dir + "/" + runs[k].dir + "/branch.json"));
+    const double exact = ClosedFormPeak(force, k3);
+    const double peak = runs[k].peaks.at("max_abs_0");
+    MESSAGE("P = " << force << ", k3 = " << k3 << ": peak " << peak << ", closed form " << exact
+                   << " (" << (exact - peak) / exact << " below)");
+    CHECK(peak < exact * (1.0 + kRounding));
+    CHECK(peak > exact * (1.0 - kPeakTolerance));
+    CHECK(runs[k].folds == serial[k].folds);
+    CHECK(runs[k].peaks == serial[k].peaks);
+  }
+  CHECK(runs[0].folds == 0);  // P = 0.05, k3 = 0.1: below the cusp (P ≈ 0.054)
+  CHECK(runs[5].folds == 2);
+  const nlohmann::json record = ReadRecord(dir);
+  CHECK_FALSE(record.contains("parameter"));  // one-parameter readers must not misread a grid
+  CHECK(record["parameters"].size() == 2);
+  CHECK(record["parameters"][1]["path"] == "nonlinearities[0].coefficient");
+  CHECK(record["parameters"][1]["values"].get<std::vector<double>>() == grid[1].values);
+  CHECK(record["runs"][3]["values"] ==
+        nlohmann::json{{"model.forcing[0].cos", 0.1}, {"nonlinearities[0].coefficient", 0.2}});
+  std::ifstream in(dir + "/3/branch.json");
+  CHECK(nlohmann::json::parse(in)["case"]["nonlinearities"][0]["coefficient"] == 0.2);
+
+  // Again: every run is kept. The same axes in another order are another sweep.
+  const std::vector<SweepRun> again = RunSweep(file, grid, dir, options);
+  for (const SweepRun& run : again) CHECK(run.resumed);
+  CHECK_THROWS_WITH_AS(RunSweep(file, {grid[1], grid[0]}, dir, options), doctest::Contains("--out"),
+                       InputError);
 }
 
 TEST_CASE("sweep: a failing run is a status, and an interrupted sweep resumes") {
@@ -93,6 +151,59 @@ TEST_CASE("sweep: a failing run is a status, and an interrupted sweep resumes") 
   CHECK_THROWS_WITH_AS(RunSweep(file, mu, {0.3}, dir, {}), doctest::Contains("--out"), InputError);
   CHECK_THROWS_WITH_AS(RunSweep(file, mu, {std::nan("")}, OutDir("nan"), {}),
                        doctest::Contains("--values"), InputError);
+}
+
+TEST_CASE("sweep: a grid point the case refuses fails its runs only, and they are traced again") {
+  const CaseFile file = CaseFileNamed("friction/one_dof_coulomb.json");
+  // μ = −1 is refused by the case's validation: runs 2 and 3 (μ varies slowest) fail.
+  const SweepGrid grid = {
+      {CaseParameter("nonlinearities[0].mu", file.the_case), {0.5, -1.0}},
+      {CaseParameter("nonlinearities[0].normal_load", file.the_case), {1.0, 0.8}}};
+  const std::string dir = OutDir("grid_resume");
+  std::vector<SweepRun> runs = RunSweep(file, grid, dir, {});
+  REQUIRE(runs.size() == 4);
+  CHECK(runs[0].status == "complete");
+  CHECK(runs[1].status == "complete");
+  for (size_t k : {size_t{2}, size_t{3}}) {
+    CHECK(runs[k].status == "failed");
+    CHECK(runs[k].message.find("nonlinearities[0].mu") != std::string::npos);
+  }
+  runs = RunSweep(file, grid, dir, {});
+  CHECK(runs[0].resumed);
+  CHECK(runs[1].resumed);
+  CHECK_FALSE(runs[2].resumed);
+  CHECK(runs[3].status == "failed");
+}
+
+TEST_CASE("sweep: grid order, shape checks and records from before grids") {
+  const CaseFile file = CaseFileNamed("duffing_h1.json");
+  const CaseParameter force_cos("model.forcing[0].cos", file.the_case);
+  const CaseParameter force_sin("model.forcing[0].sin", file.the_case);
+  const CaseParameter k3("nonlinearities[0].coefficient", file.the_case);
+  const SweepGrid grid = {{force_cos, {1.0, 2.0}}, {k3, {10.0, 20.0, 30.0}}};
+  CHECK(GridSize(grid) == 6);
+  CHECK(GridPoint(grid, 0) == std::vector<double>{1.0, 10.0});
+  CHECK(GridPoint(grid, 2) == std::vector<double>{1.0, 30.0});
+  CHECK(GridPoint(grid, 4) == std::vector<double>{2.0, 20.0});
+  CHECK_THROWS_WITH_AS(CheckGrid({{force_cos, {1.0}}, {force_cos, {2.0}}}),
+                       doctest::Contains("--parameter"), InputError);
+  CHECK_THROWS_WITH_AS(CheckGrid({{force_cos, {1.0}}, {k3, {}}}), doctest::Contains("--values"),
+                       InputError);
+  // 50³ = 125000 runs: over kMaxSweepRuns, refused before anything is written.
+  const std::vector<double> fifty(50, 1.0);
+  const std::string big = OutDir("big");
+  CHECK_THROWS_WITH_AS(
+      RunSweep(file, {{force_cos, fifty}, {force_sin, fifty}, {k3, fifty}}, big, {}),
+      doctest::Contains("125000 runs"), InputError);
+  CHECK_FALSE(std::filesystem::exists(big));
+
+  // A one-parameter sweep.json written before grids (no "parameters") is the same sweep.
+  const std::string dir = OutDir("old_record");
+  RunSweep(file, force_cos, {0.05}, dir, {});
+  nlohmann::json record = ReadRecord(dir);
+  record.erase("parameters");
+  std::ofstream(dir + "/sweep.json") << record.dump();
+  CHECK(RunSweep(file, force_cos, {0.05}, dir, {})[0].resumed);
 }
 
 TEST_CASE("sweep: the case file records the swept value at the parameter's path") {
