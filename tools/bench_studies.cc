@@ -48,49 +48,29 @@ void BenchFoldCurve(double lu_unit) {
               seconds / lu_unit);
 }
 
-// Every energy peak of the friction oscillator's branch at N = 8 followed to N = 12 (the
-// super-harmonic and primary peaks vanish on the way; see the README's peak-curve study).
-void BenchPeakCurves(double lu_unit) {
-  const CaseFile file = ReadCaseFile(Case("friction/frc_n8.json"));
-  const CaseParameter load("nonlinearities[0].normal_load", file.the_case);
-  EventCurveOptions options;
-  options.to = 12.0;
-  const auto start = Clock::now();
-  const EventCurveResult result = TracePeakCurves(file.the_case, load, options);
-  const double seconds = Seconds(start);
-  int points = 0, solves = 0;
-  for (const EventCurve& curve : result.curves) {
-    points += static_cast<int>(curve.points.size());
-    solves += curve.solves;
-  }
-  std::printf(
-      "peak curves, friction/frc_n8.json (N_phi = 60), energy, normal_load 8 -> 12: %zu "
-      "curves, %d points, %d fixed-omega solves\n",
-      result.curves.size(), points, solves);
-  std::printf("  wall time %.2f s = %.0f LU(320) (the branch trace included); %.2f ms per solve\n",
-              seconds, seconds / lu_unit, 1e3 * seconds / std::max(solves, 1));
-}
+using EventTracer = EventCurveResult (*)(const nfrc::Case&, const CaseParameter&,
+                                         const EventCurveOptions&);
 
-// Both Neimark–Sacker points of the NES oscillator followed in the forcing from 0.005 to 0.01.
-void BenchNeimarkSackerCurves(double lu_unit) {
-  const CaseFile file = ReadCaseFile(Case("nes_neimark_sacker.json"));
-  const CaseParameter forcing("model.forcing[0].cos", file.the_case);
+// Traces a case's event curves in `path` to `to` and prints curves, points, solves and times.
+void BenchEventCurves(const char* label, const std::string& case_name, const std::string& path,
+                      double to, EventTracer trace, double lu_unit) {
+  const CaseFile file = ReadCaseFile(Case(case_name));
+  const CaseParameter parameter(path, file.the_case);
   EventCurveOptions options;
-  options.to = 0.01;
+  options.to = to;
   const auto start = Clock::now();
-  const EventCurveResult result = TraceNeimarkSackerCurves(file.the_case, forcing, options);
+  const EventCurveResult result = trace(file.the_case, parameter, options);
   const double seconds = Seconds(start);
   int points = 0, solves = 0;
   for (const EventCurve& curve : result.curves) {
     points += static_cast<int>(curve.points.size());
     solves += curve.solves;
   }
-  std::printf(
-      "Neimark-Sacker curves, nes_neimark_sacker.json, forcing 0.005 -> 0.01: %zu curves, %d "
-      "points, %d fixed-omega solves with Hill's method\n",
-      result.curves.size(), points, solves);
-  std::printf("  wall time %.1f ms = %.1f LU(320) (the branch trace with stability included)\n",
-              1e3 * seconds, seconds / lu_unit);
+  std::printf("%s, %s, %s %g -> %g: %zu curves, %d points, %d fixed-omega solves\n", label,
+              case_name.c_str(), path.c_str(), result.from, to, result.curves.size(), points,
+              solves);
+  std::printf("  wall time %.1f ms = %.1f LU(320) (the branch trace included); %.2f ms per solve\n",
+              1e3 * seconds, seconds / lu_unit, 1e3 * seconds / std::max(solves, 1));
 }
 
 struct SweepTiming {
@@ -147,8 +127,13 @@ void BenchSweep(double lu_unit) {
 
 void BenchStudies(double lu_unit) {
   BenchFoldCurve(lu_unit);
-  BenchPeakCurves(lu_unit);
-  BenchNeimarkSackerCurves(lu_unit);
+  // Every energy peak of the Fig. 7 branch at N = 8 followed to N = 12 (the super-harmonic and
+  // primary peaks vanish on the way; see the README's studies).
+  BenchEventCurves("peak curves (energy)", "friction/frc_n8.json", "nonlinearities[0].normal_load",
+                   12.0, TracePeakCurves, lu_unit);
+  // Both Neimark-Sacker points of the NES oscillator (Hill's method at every solve).
+  BenchEventCurves("Neimark-Sacker curves", "nes_neimark_sacker.json", "model.forcing[0].cos", 0.01,
+                   TraceNeimarkSackerCurves, lu_unit);
   BenchSweep(lu_unit);
 }
 
