@@ -54,6 +54,7 @@ void Follow(const Case& the_case, const CaseParameter& parameter, const EventCur
   const double range = std::abs(options.to - from);
   const double sign = options.to > from ? 1.0 : -1.0;
   double step = sign * options.initial_step * range;
+  double largest = curve->points.back().measure;  // on the curve so far
   while (curve->points.back().parameter != options.to) {
     if (!check.Continue()) {
       curve->end = EventCurveEnd::kStopped;
@@ -79,8 +80,6 @@ void Follow(const Case& the_case, const CaseParameter& parameter, const EventCur
     EventSolver solver(parameter.With(the_case, p), kind, options.measure);
     Sample peak;
     std::string why;
-    double largest = 0.0;
-    for (const EventCurvePoint& point : curve->points) largest = std::max(largest, point.measure);
     const bool found =
         event_search::Bracket(solver, omega_pred, y_pred, last.omega, last.y, &peak, &why);
     if (found && kind == EventKind::kPeak && !(peak.measure > kVanishedMeasure * largest)) {
@@ -92,6 +91,7 @@ void Follow(const Case& the_case, const CaseParameter& parameter, const EventCur
     }
     if (found) {
       curve->points.push_back(ToPoint(p, peak, solver.solves()));
+      largest = std::max(largest, peak.measure);
       curve->solves += solver.solves();
       if (options.progress != nullptr) {
         *options.progress << "nfrc: " << EventName(kind) << " " << index << " point "
@@ -167,14 +167,11 @@ std::vector<Start> PeakStarts(const Case& the_case, const TraceResult& trace,
                               const EventCurveOptions& options, EventCurveResult* result) {
   EventSolver solver(the_case, EventKind::kPeak, options.measure);
   std::vector<double> measures;
-  for (const TracePoint& point : trace.points) {
-    Sample sample;
-    measures.push_back(solver.Differentiate(point.point.lambda, point.point.y, &sample)
-                           ? sample.measure
-                           : std::numeric_limits<double>::quiet_NaN());
-  }
   double largest = 0.0;
-  for (double m : measures) largest = std::max(largest, std::isnan(m) ? 0.0 : m);
+  for (const TracePoint& point : trace.points) {
+    measures.push_back(solver.Measure(point.point.y, point.point.lambda));
+    largest = std::max(largest, measures.back());
+  }
   std::vector<Start> starts;
   for (size_t i = 1; i + 1 < measures.size(); ++i) {
     if (!(measures[i] > measures[i - 1] && measures[i] >= measures[i + 1])) continue;
@@ -237,15 +234,10 @@ EventCurveResult TraceEventCurves(const Case& the_case, const CaseParameter& par
   } catch (const InputError& error) {
     throw InputError(std::string("to: the case rejects it: ") + error.what());
   }
-  Case branch_case = the_case;
-  // Peaks need only the measure along the branch; Neimark-Sacker points its stability.
-  if (kind == EventKind::kPeak) branch_case.stability.enabled = false;
-  TraceOptions trace_options;
-  trace_options.progress = options.progress;
-  trace_options.solve_signals = false;
   StopCheck check(options.stop, options.poll);
-  trace_options.observer = &check;
-  const TraceResult trace = TraceCase(branch_case, trace_options);
+  // Peaks need only the measure along the branch; Neimark-Sacker points its stability.
+  const TraceResult trace =
+      TraceStudyBranch(the_case, kind == EventKind::kNeimarkSacker, options.progress, &check);
 
   std::vector<Start> starts = kind == EventKind::kPeak
                                   ? PeakStarts(the_case, trace, options, &result)

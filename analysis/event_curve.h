@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <iosfwd>
@@ -63,6 +64,13 @@ struct EventCurveOptions {
   // (Python checks its signals here). Empty: not called.
   std::function<bool()> poll;
   EventCurveObserver* observer = nullptr;
+
+  // Sets max_step and lowers initial_step and min_step to it where they exceed it.
+  void SetMaxStep(double step) {
+    max_step = step;
+    initial_step = std::min(initial_step, step);
+    min_step = std::min(min_step, initial_step);
+  }
 
   // Throws InputError naming "to", "near", "stations", "initial_step", "max_step", "min_step"
   // or "max_points".

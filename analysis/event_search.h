@@ -103,14 +103,15 @@ class EventSolver {
     return true;
   }
 
-  int solves() const { return solves_; }
-  const std::string& message() const { return message_; }
-
- private:
+  // The measure of a solution (y, ω), without the event.
   double Measure(const Eigen::VectorXd& y, double omega) {
     return EvaluatePeakMeasure(measure_, *system_, analyzer_, y, omega);
   }
 
+  int solves() const { return solves_; }
+  const std::string& message() const { return message_; }
+
+ private:
   // log|μ| of the largest complex pair of Hill's multipliers.
   bool NeimarkSacker(double omega, const Eigen::VectorXd& y, Sample* sample) {
     if (!monitor_) {

@@ -231,14 +231,9 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
   result.from = parameter.Get(the_case);
   result.to = options.to;
   options.Validate(result.from);
-  Case branch_case = the_case;
-  branch_case.stability.enabled = false;  // only the folds are needed
-  TraceOptions trace_options;
-  trace_options.progress = options.progress;
-  trace_options.solve_signals = false;
   StopCheck check(options.stop, options.poll);
-  trace_options.observer = &check;
-  const TraceResult trace = TraceCase(branch_case, trace_options);
+  // Only the folds are needed: no stability.
+  const TraceResult trace = TraceStudyBranch(the_case, false, options.progress, &check);
   result.branch_folds = static_cast<int>(trace.folds.size());
   if (trace.folds.empty()) {
     result.notes.push_back("the case's branch has no fold (" + trace.branch.summary.message + ")");

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <iosfwd>
@@ -37,6 +38,12 @@ struct FoldCurveOptions {
   // (Python checks its signals here). Empty: not called.
   std::function<bool()> poll;
   FoldCurveObserver* observer = nullptr;
+
+  // Sets max_step and lowers initial_step to it if it exceeds it.
+  void SetMaxStep(double step) {
+    max_step = step;
+    initial_step = std::min(initial_step, step);
+  }
 
   // Throws InputError naming "to", "initial_step", "max_step" or "max_points".
   void Validate(double from) const;

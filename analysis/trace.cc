@@ -208,4 +208,15 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
   return result;
 }
 
+TraceResult TraceStudyBranch(const Case& the_case, bool stability, std::ostream* progress,
+                             StopCheck* check) {
+  Case branch_case = the_case;
+  branch_case.stability.enabled = branch_case.stability.enabled && stability;
+  TraceOptions options;
+  options.progress = progress;
+  options.solve_signals = false;
+  options.observer = check;
+  return TraceCase(branch_case, options);
+}
+
 }  // namespace nfrc

@@ -137,4 +137,9 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
 // evenly spaced ω plus the signals_at frequencies.
 TraceResult StepLcp(const Case& the_case, const TraceOptions& options = {});
 
+// The branch a study in a second parameter starts from: the case traced without its signals
+// and, unless `stability`, without Hill's method; `check` can stop it (points kept).
+TraceResult TraceStudyBranch(const Case& the_case, bool stability, std::ostream* progress,
+                             StopCheck* check);
+
 }  // namespace nfrc

@@ -144,6 +144,17 @@ int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   return complete ? kExitOk : kExitRunIncomplete;
 }
 
+// Runs a study on a case read from `case_path`; an InputError it raises about the case (a field
+// such as stability.enabled, or "to" the case rejects) is re-raised naming the file.
+template <typename Study>
+auto NamingCaseFile(const std::string& case_path, Study study) {
+  try {
+    return study();
+  } catch (const nfrc::InputError& error) {
+    throw nfrc::InputError(case_path + ": " + error.what());
+  }
+}
+
 // An InputError about a peak-curve option, re-raised naming the command-line option that set it
 // ("stations: ..." becomes "--at: ...").
 [[noreturn]] void RethrowAsOption(const nfrc::CommandLine& line, const nfrc::InputError& error) {
@@ -177,9 +188,7 @@ int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::s
   if (const auto near = line.Number("--near", NumberDomain::kPositive)) options.near = *near;
   options.stations = line.NumberList("--at");
   if (const auto max_step = line.Number("--max-step", NumberDomain::kPositive)) {
-    options.max_step = *max_step;
-    options.initial_step = std::min(options.initial_step, *max_step);
-    options.min_step = std::min(options.min_step, options.initial_step);
+    options.SetMaxStep(*max_step);
   }
   const double from = parameter.Get(the_case);
   try {
@@ -194,9 +203,10 @@ int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::s
   nfrc::EventCurveWriter writer(io.out_dir + "/" + file_name, parameter.path(), from, to,
                                 options.measure.name, file.source);
   options.observer = &writer;
-  const nfrc::EventCurveResult result =
-      kind == "peak" ? nfrc::TracePeakCurves(the_case, parameter, options)
-                     : nfrc::TraceNeimarkSackerCurves(the_case, parameter, options);
+  const nfrc::EventCurveResult result = NamingCaseFile(io.case_path, [&] {
+    return kind == "peak" ? nfrc::TracePeakCurves(the_case, parameter, options)
+                          : nfrc::TraceNeimarkSackerCurves(the_case, parameter, options);
+  });
   writer.Finish(result);
   bool complete = !result.curves.empty();
   for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
@@ -238,8 +248,7 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   nfrc::FoldCurveOptions options;
   options.to = *to;
   if (const auto max_step = line.Number("--max-step", NumberDomain::kPositive)) {
-    options.max_step = *max_step;
-    options.initial_step = std::min(options.initial_step, *max_step);
+    options.SetMaxStep(*max_step);
   }
   const double from = parameter.Get(the_case);
   options.Validate(from);
@@ -248,7 +257,8 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   const nfrc::OutputDirectoryLock lock(io.out_dir);
   nfrc::FoldCurveWriter writer(io.out_dir, the_case, parameter.path(), from, *to, file.source);
   options.observer = &writer;
-  const nfrc::FoldCurveResult result = nfrc::TraceFoldCurves(the_case, parameter, options);
+  const nfrc::FoldCurveResult result = NamingCaseFile(
+      io.case_path, [&] { return nfrc::TraceFoldCurves(the_case, parameter, options); });
   writer.Finish(result);
   bool complete = !result.curves.empty();
   for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";

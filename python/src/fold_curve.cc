@@ -52,8 +52,7 @@ void BindFoldCurve(py::module_& m) {
         const CaseParameter parameter(path, the_case);
         FoldCurveOptions options;
         options.to = to;
-        options.max_step = max_step;
-        options.initial_step = std::min(options.initial_step, max_step);
+        options.SetMaxStep(max_step);
         options.progress = progress ? &std::cerr : nullptr;
         InterruptWatch watch;
         options.poll = [&watch] { return watch.Poll(); };
@@ -77,8 +76,8 @@ void BindFoldCurve(py::module_& m) {
   m.def(
       "_event_curve",
       [](const PyCase& c, const std::string& kind, const std::string& path, double to,
-         const std::string& measure, double near, const std::vector<double>& at,
-         double max_step, bool progress) {
+         const std::string& measure, double near, const std::vector<double>& at, double max_step,
+         bool progress) {
         const Case the_case = c.value;
         const CaseParameter parameter(path, the_case);
         EventCurveOptions options;
@@ -86,9 +85,7 @@ void BindFoldCurve(py::module_& m) {
         options.measure = ParsePeakMeasure(measure, the_case);
         options.near = near;
         options.stations = at;
-        options.max_step = max_step;
-        options.initial_step = std::min(options.initial_step, max_step);
-        options.min_step = std::min(options.min_step, options.initial_step);
+        options.SetMaxStep(max_step);
         options.progress = progress ? &std::cerr : nullptr;
         InterruptWatch watch;
         options.poll = [&watch] { return watch.Poll(); };

@@ -251,7 +251,8 @@ TEST_CASE("Neimark-Sacker curves of the NES oscillator in the forcing against fi
       }
       CHECK(std::abs(point->omega - nearest) < kNeimarkSackerOmega * nearest);
       MESSAGE("P = " << p << ": Neimark-Sacker curve omega " << point->omega << ", fixed-P run "
-                     << nearest);
+                     << nearest << ", relative difference "
+                     << std::abs(point->omega - nearest) / nearest);
     }
   }
 }

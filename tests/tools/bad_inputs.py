@@ -295,6 +295,12 @@ command("fold_curve_to_from", ["fold-curve", duffing, "--out", out, "--parameter
 command("fold_curve_kind_hopf", ["fold-curve", duffing, "--out", out, "--parameter",
                                "model.forcing[0].cos", "--to", "0.1", "--kind", "hopf"],
         EXIT_USAGE, "--kind")
+ns_unstable = write("ns_no_stability.json",
+                    edited(DUFFING, setitem(["stability"], {"enabled": False})))
+command("neimark_sacker_without_stability", ["fold-curve", ns_unstable, "--out", out, "--kind",
+                                             "neimark_sacker", "--parameter",
+                                             "model.forcing[0].cos", "--to", "0.1"],
+        EXIT_INPUT, ns_unstable, "stability.enabled")
 command("peak_curve_bad_measure", ["fold-curve", duffing, "--out", out, "--kind", "peak",
                                     "--parameter", "model.forcing[0].cos", "--to", "0.1",
                                     "--measure", "h3:0"], EXIT_USAGE, "--measure")
