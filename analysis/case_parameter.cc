@@ -76,6 +76,16 @@ std::optional<std::pair<std::string, std::string>> SplitIndexed(const std::strin
 }  // namespace
 
 CaseParameter::CaseParameter(std::string path, const Case& the_case) : path_(std::move(path)) {
+  if (const std::optional<std::string> why = Parse(the_case)) Refuse(path_, *why);
+}
+
+bool CaseParameter::Accepts(const std::string& path, const Case& the_case) {
+  CaseParameter parameter;
+  parameter.path_ = path;
+  return !parameter.Parse(the_case).has_value();
+}
+
+std::optional<std::string> CaseParameter::Parse(const Case& the_case) {
   std::optional<std::pair<std::string, std::string>> parts;
   if ((parts = SplitIndexed(path_, "model.forcing")) &&
       (parts->second == "cos" || parts->second == "sin")) {
@@ -84,13 +94,13 @@ CaseParameter::CaseParameter(std::string path, const Case& the_case) : path_(std
     kind_ = Kind::kLaw;
     field_ = parts->second;
   } else {
-    Refuse(path_,
-           "is not a numeric case field: use model.forcing[i].cos|sin or "
-           "nonlinearities[i].<field>");
+    return "is not a numeric case field: use model.forcing[i].cos|sin or "
+           "nonlinearities[i].<field>";
   }
-  if (parts->first.size() > 6) Refuse(path_, "has an index out of range");
+  if (parts->first.size() > 6) return "has an index out of range";
   index_ = std::stoi(parts->first);
-  if (Field(the_case) == nullptr) Refuse(path_, "names no numeric field of this case");
+  if (Field(the_case) == nullptr) return "names no numeric field of this case";
+  return std::nullopt;
 }
 
 const double* CaseParameter::Field(const Case& the_case) const {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "analysis/case.h"
@@ -15,6 +16,9 @@ class CaseParameter {
   // Throws InputError naming "parameter" and the path if the path does not name a numeric
   // field of `the_case` (an index out of range, a field the law does not have).
   CaseParameter(std::string path, const Case& the_case);
+
+  // Whether the constructor accepts `path` for `the_case`.
+  static bool Accepts(const std::string& path, const Case& the_case);
 
   const std::string& path() const { return path_; }
 
@@ -34,6 +38,9 @@ class CaseParameter {
 
  private:
   enum class Kind { kForcingCos, kForcingSin, kLaw };
+  CaseParameter() = default;
+  // Reads path_ into the kind, index and field; why the path is refused, if it is.
+  std::optional<std::string> Parse(const Case& the_case);
   const double* Field(const Case& the_case) const;  // null if the case has no such field
 
   std::string path_;

@@ -175,11 +175,11 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy) {
   const std::vector<AcceptanceCase> cases = {
       {"duffing.json", Plotted::kMaxAbs, 0.0},
       {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
-      {"contact/nlvib_penalty.json", Plotted::kMaxAbs, 30.0},
-      {"friction/frc_n8.json", Plotted::kLogEnergy, 40.0},
+      {"contact/nlvib.json#penalty", Plotted::kMaxAbs, 30.0},
+      {"friction/fig7.json#n8", Plotted::kLogEnergy, 40.0},
       {"friction/frc_n10.json", Plotted::kLogEnergy, 40.0},
-      {"friction/frc_n10_5.json", Plotted::kLogEnergy, 40.0},
-      {"friction/frc_n11.json", Plotted::kLogEnergy, 40.0},
+      {"friction/fig7.json#n10_5", Plotted::kLogEnergy, 40.0},
+      {"friction/fig7.json#n11", Plotted::kLogEnergy, 40.0},
       {"rod/rigid_nh20.json", Plotted::kMaxAbs, 60.0},
       {"friction/point_e.json", Plotted::kLogEnergy, 700.0},
   };

@@ -129,7 +129,7 @@ void BenchStudies(double lu_unit) {
   BenchFoldCurve(lu_unit);
   // Every energy peak of the Fig. 7 branch at N = 8 followed to N = 12 (the super-harmonic and
   // primary peaks vanish on the way; see the README's studies).
-  BenchEventCurves("peak curves (energy)", "friction/frc_n8.json", "nonlinearities[0].normal_load",
+  BenchEventCurves("peak curves (energy)", "friction/fig7.json#n8", "nonlinearities[0].normal_load",
                    12.0, TracePeakCurves, lu_unit);
   // Both Neimark-Sacker points of the NES oscillator (Hill's method at every solve).
   BenchEventCurves("Neimark-Sacker curves", "nes_neimark_sacker.json", "model.forcing[0].cos", 0.01,

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "tools/case_manifest.h"
 #include "tools/input_fields.h"
 #include "tools/json_input.h"
 #include "tools/law_reader.h"
@@ -168,11 +169,35 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
 
 CaseFile ReadCaseFile(const std::string& path) {
   CaseFile file;
+  // FILE#MEMBER names a member of a manifest (a file whose own name has a # is read whole).
+  const size_t hash = path.rfind('#');
+  const bool member = hash != std::string::npos && !std::filesystem::exists(path);
+  const std::string file_path = member ? path.substr(0, hash) : path;
   // Depth, duplicate keys, number range, file type and size are checked while reading.
-  file.source = ReadJsonFile(path);
-  const std::string base_dir = std::filesystem::absolute(path).parent_path().string();
+  nlohmann::json document = ReadJsonFile(file_path);
+  if (IsManifest(document)) {
+    const CaseManifest manifest = ParseManifest(document, file_path);
+    if (!member) {
+      std::string names;
+      for (const CaseVariant& variant : manifest.variants) {
+        names += (names.empty() ? "" : ", ") + variant.name;
+      }
+      throw InputError(file_path + ": manifest: a manifest of " +
+                       std::to_string(manifest.variants.size()) + " cases (" + names +
+                       "): name one as " + file_path + "#NAME, or run them all with nfrc sweep");
+    }
+    file.source = VariantSource(manifest, FindVariant(manifest, path.substr(hash + 1)));
+    file.base_dir = std::filesystem::path(manifest.base_path).parent_path().string();
+  } else {
+    if (member) {
+      throw InputError(file_path + ": manifest: absent, so \"#" + path.substr(hash + 1) +
+                       "\" names nothing (this is a case file, not a manifest)");
+    }
+    file.source = std::move(document);
+    file.base_dir = std::filesystem::absolute(path).parent_path().string();
+  }
   try {
-    file.the_case = ParseCase(file.source, base_dir);
+    file.the_case = ParseCase(file.source, file.base_dir);
     file.the_case.path = path;
   } catch (const InputError& error) {
     throw InputError(path + ": " + error.what());

@@ -14,9 +14,11 @@
 #include "analysis/fold_curve.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
+#include "tools/case_manifest.h"
 #include "tools/command_line.h"
 #include "tools/event_curve_writer.h"
 #include "tools/fold_curve_writer.h"
+#include "tools/json_input.h"
 #include "tools/output_files.h"
 #include "tools/refinement_writer.h"
 #include "tools/run_case.h"
@@ -64,7 +66,10 @@ constexpr const char* kUsage =
     "                                 one branch per value (several --parameter: per point of\n"
     "                                 their grid, the last varying fastest) in DIR/<k>/,\n"
     "                                 DIR/sweep.json rewritten as runs finish; resumes a sweep\n"
-    "                                 in DIR\n"
+    "                                 in DIR. PATH: any numeric field of the case file\n"
+    "  nfrc sweep MANIFEST.json --out DIR [--jobs N]\n"
+    "                                 one branch per variant of a manifest (a base case and its\n"
+    "                                 variants; run one as MANIFEST.json#NAME)\n"
     "  nfrc plot DIR [DIR ...] [--measure max_abs|min|max|h1|energy] [--logy] [--output BASE]\n"
     "              [--labels A,B] [--xlim MIN,MAX] [--title TEXT]\n"
     "                                 draw DIR/branch.json to DIR/frc.png and DIR/frc.svg\n"
@@ -345,13 +350,28 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
                                 OptionSpec::Repeated("--values"), OptionSpec::Repeated("--range"),
                                 OptionSpec::Value("--jobs")});
   const CaseAndOut io = RequireCaseAndOut(line);
-  const std::vector<SweepAxisArgs> axes = SweepAxes(line);
   // Two cores here; a few hundred threads is more than any machine this runs on has.
   const int jobs = line.Int("--jobs", 1, 256).value_or(1);
-  const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
-  nfrc::SweepGrid grid;
-  for (const SweepAxisArgs& axis : axes) {
-    grid.push_back({nfrc::CaseParameter(axis.path, file.the_case), axis.values});
+  // A manifest without --parameter: one run per variant, of its base case.
+  std::optional<nfrc::CaseManifest> manifest;
+  const bool axes_given =
+      std::any_of(line.options().begin(), line.options().end(), [](const auto& option) {
+        return option.name == "--parameter" || option.name == "--values" ||
+               option.name == "--range";
+      });
+  if (!axes_given && io.case_path.find('#') == std::string::npos) {
+    const nlohmann::json document = nfrc::ReadJsonFile(io.case_path);
+    if (nfrc::IsManifest(document)) manifest = nfrc::ParseManifest(document, io.case_path);
+  }
+  const nfrc::CaseFile file = nfrc::ReadCaseFile(manifest ? manifest->base_path : io.case_path);
+  std::optional<nfrc::SweepPlan> plan;
+  if (manifest) {
+    plan.emplace(std::move(*manifest));
+  } else {
+    nfrc::SweepGrid grid;
+    for (const SweepAxisArgs& axis : SweepAxes(line)) grid.emplace_back(axis.path, axis.values);
+    nfrc::CheckGridPaths(file, grid);
+    plan.emplace(std::move(grid));
   }
   if (nfrc::LaunchedRanks() > 1) {
     if (jobs != 1) {
@@ -361,7 +381,7 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
     }
     const nfrc::RankSession session;
     const std::vector<nfrc::SweepRun> runs =
-        nfrc::RunSweepOnRanks(session, file, grid, io.out_dir, &std::cerr, &stop.flag());
+        nfrc::RunSweepOnRanks(session, file, *plan, io.out_dir, &std::cerr, &stop.flag());
     if (session.rank() != 0) return kExitOk;  // rank 0 reports for all
     return ReportSweep(runs, io.out_dir, stop);
   }
@@ -370,7 +390,7 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   options.jobs = jobs;
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  return ReportSweep(nfrc::RunSweep(file, grid, io.out_dir, options), io.out_dir, stop);
+  return ReportSweep(nfrc::RunSweep(file, *plan, io.out_dir, options), io.out_dir, stop);
 }
 
 // Runs tools/<script> with the arguments under the system Python; its exit status.

@@ -7,16 +7,24 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/case_parameter.h"
 #include "tools/case_file.h"
+#include "tools/case_manifest.h"
 
 namespace nfrc {
 
-// One parameter of a sweep and the values it takes, in order.
+// One parameter of a sweep and the values it takes, in order. The path names a numeric field
+// of the case file: a CaseParameter path, or any other ("harmonics.max", "model.M[1][1]",
+// "model.damping.modal_ratio"), which is set in the case's JSON and the case read again.
 struct SweepAxis {
-  CaseParameter parameter;
+  SweepAxis(std::string path_in, std::vector<double> values_in)
+      : path(std::move(path_in)), values(std::move(values_in)) {}
+  SweepAxis(const CaseParameter& parameter, std::vector<double> values_in)
+      : SweepAxis(parameter.path(), std::move(values_in)) {}
+  std::string path;
   std::vector<double> values;
 };
 
@@ -38,13 +46,38 @@ void CheckGrid(const SweepGrid& grid);
 size_t GridSize(const SweepGrid& grid);
 std::vector<double> GridPoint(const SweepGrid& grid, size_t index);
 // A copy of `the_case` with every axis' field at `point` (one value per axis), validated once
-// all are set (so that fields checked together are never seen half-changed).
+// all are set (so that fields checked together are never seen half-changed). Every path must
+// be a CaseParameter path (InputError naming "parameter" otherwise).
 Case CaseAtGridPoint(const Case& the_case, const SweepGrid& grid, const std::vector<double>& point);
 
+// The runs of a sweep: the points of a grid, or the variants of a manifest (one run each, in
+// the manifest's order; the case file of the sweep is then the manifest's base).
+class SweepPlan {
+ public:
+  explicit SweepPlan(SweepGrid grid);
+  explicit SweepPlan(CaseManifest manifest);
+
+  size_t size() const;
+  bool is_grid() const { return !manifest_.has_value(); }
+  const CaseManifest* manifest() const { return manifest_ ? &*manifest_ : nullptr; }
+  const SweepGrid& grid() const { return grid_; }
+  // Run `index`'s changes to the case file, in order.
+  std::vector<FieldChange> Changes(size_t index) const;
+  // Run `index` for people: "path=value, ..." or the variant's name.
+  std::string Label(size_t index) const;
+  // What sweep.json records of the plan ("parameters", or "manifest" and "variants"): a sweep
+  // resumes only into a directory that holds the same.
+  nlohmann::json Record() const;
+
+ private:
+  SweepGrid grid_;
+  std::optional<CaseManifest> manifest_;
+};
 // One branch of a sweep, as DIR/sweep.json records it.
 struct SweepRun {
   int index = 0;
-  std::vector<double> values;  // of the swept parameters, one per axis of the grid
+  std::vector<double> values;  // of the swept parameters, one per axis of a grid
+  std::string name;            // a manifest's variant
   std::string dir;             // relative to the sweep's directory
   // "complete" (the branch reached the end of its range), "failed" (bad input at this value,
   // or a numerical failure: `message` says which), "interrupted" or "pending".
@@ -64,13 +97,16 @@ struct SweepOptions {
   const std::atomic<bool>* stop = nullptr;  // raised: running branches stop after their point
 };
 
-// `nfrc sweep`: one branch per grid point, each traced and written as `nfrc run` does into
-// DIR/<k>/ (k the run's index in grid order), and DIR/sweep.json (parameters, values, runs)
-// rewritten atomically as runs finish (and each run in DIR/<k>/run.json). A run that fails is a
-// status, never the end of the sweep. If DIR/sweep.json already holds this sweep (same
-// parameters and values), its complete runs are kept and the others traced again (resume); a
-// different sweep there is an InputError naming --out. sweep.json has "parameters": [{"path",
-// "values"}] and, for one parameter only, the "parameter" and "values" of that axis as well.
+// `nfrc sweep`: one branch per grid point (or per variant of a manifest), each traced and written
+// as `nfrc run` does into DIR/<k>/ (k the run's index in grid order), and DIR/sweep.json
+// (parameters, values, runs) rewritten atomically as runs finish (and each run in
+// DIR/<k>/run.json). A run that fails is a status, never the end of the sweep. If DIR/sweep.json
+// already holds this sweep (same parameters and values), its complete runs are kept and the others
+// traced again (resume); a different sweep there is an InputError naming --out. sweep.json has
+// "parameters": [{"path", "values"}] and, for one parameter only, the "parameter" and "values" of
+// that axis as well.
+std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
+                               const std::string& out_dir, const SweepOptions& options);
 std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepGrid& grid,
                                const std::string& out_dir, const SweepOptions& options);
 // One parameter: RunSweep of the grid {{parameter, values}}.
@@ -86,17 +122,21 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parame
 // - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json.
 // - ReadRunRecord: that record, if the run has one.
 // - WriteSweepRecord: DIR/sweep.json for these runs; PrintRun: the progress line of a run.
-std::vector<SweepRun> PlanSweep(const SweepGrid& grid, const std::string& out_dir);
-SweepRun PendingRun(const SweepGrid& grid, size_t index);
-SweepRun TraceSweepRun(const CaseFile& file, const SweepGrid& grid, SweepRun run,
+// - CaseForRun: run `index`'s case and its case-file JSON (InputError if the run's values do
+//   not make a case).
+std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_dir);
+SweepRun PendingRun(const SweepPlan& plan, size_t index);
+SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run,
                        const std::string& out_dir, const std::atomic<bool>* stop);
 std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
-                                      const SweepGrid& grid);
-void WriteSweepRecord(const std::string& out_dir, const SweepGrid& grid,
+                                      const SweepPlan& plan);
+void WriteSweepRecord(const std::string& out_dir, const SweepPlan& plan,
                       const std::vector<SweepRun>& runs);
-void PrintRun(std::ostream* progress, const SweepGrid& grid, const SweepRun& run);
+void PrintRun(std::ostream* progress, const SweepPlan& plan, const SweepRun& run);
+CaseFile CaseForRun(const CaseFile& file, const SweepPlan& plan, size_t index);
 
-// The case-file JSON with the field at `path` (a CaseParameter path) set to `value`.
-nlohmann::json WithField(nlohmann::json source, const std::string& path, double value);
+// InputError naming --parameter unless every axis of the grid names a numeric field of the
+// case file (a CaseParameter path, or a number in its JSON).
+void CheckGridPaths(const CaseFile& file, const SweepGrid& grid);
 
 }  // namespace nfrc

@@ -35,7 +35,7 @@ RankSession::RankSession() {
 }
 RankSession::~RankSession() = default;
 
-std::vector<SweepRun> RunSweepOnRanks(const RankSession&, const CaseFile&, const SweepGrid&,
+std::vector<SweepRun> RunSweepOnRanks(const RankSession&, const CaseFile&, const SweepPlan&,
                                       const std::string&, std::ostream*, const std::atomic<bool>*) {
   throw InputError("mpirun: this nfrc was built without MPI");
 }
@@ -58,11 +58,11 @@ std::string Broadcast(const std::string& text, int rank) {
 }
 
 // Rank 0's view: every run's latest record (run.json of the runs traced in this sweep).
-void Refresh(const std::string& out_dir, const SweepGrid& grid, std::vector<SweepRun>* runs) {
+void Refresh(const std::string& out_dir, const SweepPlan& plan, std::vector<SweepRun>* runs) {
   for (SweepRun& run : *runs) {
     // Kept from an earlier sweep, or already final: nothing new can be on disk.
     if (run.resumed || run.status == "complete" || run.status == "failed") continue;
-    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, grid)) run = *record;
+    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, plan)) run = *record;
   }
 }
 
@@ -79,7 +79,7 @@ RankSession::RankSession() {
 RankSession::~RankSession() { MPI_Finalize(); }
 
 std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile& file,
-                                      const SweepGrid& grid, const std::string& out_dir,
+                                      const SweepPlan& plan, const std::string& out_dir,
                                       std::ostream* progress, const std::atomic<bool>* stop) {
   const int rank = session.rank();
   std::optional<OutputDirectoryLock> lock;
@@ -88,8 +88,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   if (rank == 0) {
     try {
       lock.emplace(out_dir);
-      runs = PlanSweep(grid, out_dir);
-      WriteSweepRecord(out_dir, grid, runs);
+      runs = PlanSweep(plan, out_dir);
+      WriteSweepRecord(out_dir, plan, runs);
     } catch (const std::exception& error) {
       failure = error.what();
       if (failure.empty()) failure = "planning the sweep failed";
@@ -144,11 +144,11 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
       if (next >= static_cast<std::int64_t>(todo.size())) break;
       const int k = todo[static_cast<size_t>(next)];
       SweepRun run =
-          TraceSweepRun(file, grid, PendingRun(grid, static_cast<size_t>(k)), out_dir, stop);
-      PrintRun(progress, grid, run);
+          TraceSweepRun(file, plan, PendingRun(plan, static_cast<size_t>(k)), out_dir, stop);
+      PrintRun(progress, plan, run);
       if (rank == 0) {
-        Refresh(out_dir, grid, &runs);
-        WriteSweepRecord(out_dir, grid, runs);
+        Refresh(out_dir, plan, &runs);
+        WriteSweepRecord(out_dir, plan, runs);
       }
     }
   } catch (const std::exception& error) {
@@ -159,8 +159,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   MPI_Barrier(MPI_COMM_WORLD);
   if (window != MPI_WIN_NULL) MPI_Win_free(&window);
   if (rank == 0) {
-    Refresh(out_dir, grid, &runs);
-    WriteSweepRecord(out_dir, grid, runs);
+    Refresh(out_dir, plan, &runs);
+    WriteSweepRecord(out_dir, plan, runs);
   }
   return runs;
 }

@@ -38,7 +38,7 @@ class RankSession {
 // (MPI_Abort, exit 4 or 5); bad input found while planning is an InputError on every rank.
 // Returns the runs as recorded (complete only on rank 0).
 std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile& file,
-                                      const SweepGrid& grid, const std::string& out_dir,
+                                      const SweepPlan& plan, const std::string& out_dir,
                                       std::ostream* progress, const std::atomic<bool>* stop);
 
 }  // namespace nfrc

@@ -21,7 +21,7 @@ from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, Dlf
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
            "LcpContact", "PenaltyContact",
-           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "neimark_sacker_curve", "peak_curve", "solve_at",
+           "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "manifest_members", "neimark_sacker_curve", "peak_curve", "solve_at",
            "sweep", "switch_branch",
            "trace",
            "__version__"]
@@ -227,8 +227,15 @@ Case.stability = property(_Stability,
 
 
 def load_case(path):
-    """Reads a case file (JSON, see the README)."""
+    """Reads a case file (JSON, see the README), or a member of a manifest named as
+    "FILE.json#NAME"."""
     return Case._load(os.fspath(path))
+
+
+def manifest_members(path):
+    """The members of a manifest (a base case and its variants), each as "FILE.json#NAME" for
+    load_case, in the manifest's order."""
+    return Case._manifest_members(os.fspath(path))
 
 
 def trace(case, progress=False):

@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
+#include "tools/case_manifest.h"
 
 namespace nfrc::python {
 namespace {
@@ -177,6 +178,14 @@ void BindCase(py::module_& m) {
                    return PyCase{ParseCase(source, base_dir)};
                  })
       .def_static("_load", [](const std::string& path) { return PyCase{LoadCase(path)}; })
+      .def_static("_manifest_members",
+                  [](const std::string& path) {
+                    std::vector<std::string> names;
+                    for (const CaseVariant& variant : ReadManifest(path).variants) {
+                      names.push_back(path + "#" + variant.name);
+                    }
+                    return names;
+                  })
       .def("copy", [](const PyCase& c) { return PyCase{c.value}; })
       .def("__copy__", [](const PyCase& c) { return PyCase{c.value}; })
       .def("__deepcopy__", [](const PyCase& c, const py::object&) { return PyCase{c.value}; })

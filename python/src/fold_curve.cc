@@ -133,7 +133,7 @@ void BindFoldCurve(py::module_& m) {
           const std::vector<double> point = GridPoint(grid, k);
           py::dict values;
           for (size_t i = 0; i < grid.size(); ++i)
-            values[py::str(grid[i].parameter.path())] = point[i];
+            values[py::str(grid[i].path)] = point[i];
           py::dict run("values"_a = values);
           if (interrupted) {
             run["status"] = "pending";

@@ -37,6 +37,27 @@ def test_load_case_reads_every_field(source_dir):
     assert case.laws[0].law == "min_max" and case.laws[0].type == "coulomb_friction"
 
 
+def test_manifest_members_are_cases(source_dir):
+    """The Fig. 7 manifest: one member per normal load of the paper, each the base case
+    (frc_n10.json) with its normal load (and mu = 0 for the linear member)."""
+    manifest = source_dir / "cases/friction/fig7.json"
+    members = nfrc.manifest_members(manifest)
+    assert [m.rsplit("#", 1)[1] for m in members] == ["n8", "n9", "n10", "n10_5", "n11", "n12",
+                                                      "linear"]
+    base = nfrc.load_case(source_dir / "cases/friction/frc_n10.json")
+    for member, load in zip(members, [8, 9, 10, 10.5, 11, 12]):
+        case = nfrc.load_case(member)
+        assert case.path == member
+        assert list(case.laws) == [nfrc.CoulombFriction(dof=1, mu=0.9, normal_load=load)]
+        np.testing.assert_array_equal(case.K, base.K)
+        assert case.harmonics == base.harmonics
+    assert nfrc.load_case(members[-1]).laws[0].mu == 0.0
+    with pytest.raises(nfrc.InputError, match=r"fig7.json: manifest.variants: no member \"n7\""):
+        nfrc.load_case(f"{manifest}#n7")
+    with pytest.raises(nfrc.InputError, match="a manifest of 7 cases"):
+        nfrc.load_case(manifest)
+
+
 def test_from_dict_with_numpy_equals_the_case_file(source_dir):
     built = nfrc.Case.from_dict(friction_dict())
     read = nfrc.load_case(source_dir / "cases/friction/frc_n10.json")

@@ -31,7 +31,7 @@ def test_duffing_has_three_solutions_at_1_2(source_dir):
 
 
 def test_friction_solution_signals(source_dir):
-    case = nfrc.load_case(source_dir / "cases/friction/convergence_e_nphi10.json")
+    case = nfrc.load_case(source_dir / "cases/friction/convergence_e.json#nphi10")
     (solution,) = nfrc.solve_at(case, 0.3085)
     assert solution.label == "only" and isinstance(solution.phases, list)
     assert solution.coefficients.shape == (2, 10)

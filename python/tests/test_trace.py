@@ -10,13 +10,14 @@ import nfrc
 from conftest import friction_dict
 
 
-# Friction cases of cases/friction/ and the same content built from numpy arrays: a short
-# branch (13 points) and the full FRC of Legrand & Pierre's Fig. 7 (about 1300 points).
+# Friction cases of cases/friction/ (a file, and a member of a manifest) and the same content
+# built from numpy arrays: a short branch (13 points) and the full FRC of Legrand & Pierre's
+# Fig. 7 (about 1300 points).
 ACCEPTANCE = {
-    "convergence_e_nphi40": dict(max_harmonic=39, samples=None, omega=(0.308, 0.309),
+    "convergence_e.json#nphi40": dict(max_harmonic=39, samples=None, omega=(0.308, 0.309),
                                  title="Point E (N = 10, omega = 0.308) with N_phi = 40",
                                  signals_at=[0.308], plot_steps=False),
-    "frc_n10": dict(),
+    "frc_n10.json": dict(),
 }
 
 
@@ -24,13 +25,13 @@ ACCEPTANCE = {
 def test_numpy_case_traces_like_nfrc_run(name, source_dir, build_dir, tmp_path):
     """A friction case built from numpy arrays gives the branch `nfrc run` gives on its file."""
     from nfrc import _plain  # the dict as JSON would see it
-    case_file = source_dir / "cases/friction" / f"{name}.json"
+    case_file = source_dir / "cases/friction" / name
     source = friction_dict(**ACCEPTANCE[name])
-    assert _plain(source) == json.loads(case_file.read_text())  # the same content
     out = tmp_path / "out"
     subprocess.run([str(build_dir / "nfrc"), "run", str(case_file), "--out", str(out)],
                    check=True, capture_output=True)
     written = json.loads((out / "branch.json").read_text())
+    assert _plain(source) == written["case"]  # the same content as the case that was run
     branch = nfrc.trace(nfrc.Case.from_dict(source))
     points = written["points"]
     assert branch.points == len(points) == written["summary"]["points"] > 10
@@ -87,7 +88,7 @@ def test_duffing_folds(source_dir):
 
 
 def test_contact_measures(source_dir):
-    case = nfrc.load_case(source_dir / "cases/contact/nlvib_penalty.json")
+    case = nfrc.load_case(source_dir / "cases/contact/nlvib.json#penalty")
     case.harmonics = nfrc.HarmonicSet(7, samples=128)  # stalls at 0.70 but has contact by then
     branch = nfrc.trace(case)
     min_gap = branch.measure("min_gap")

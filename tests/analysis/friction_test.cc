@@ -134,7 +134,7 @@ constexpr double kLinearTolerance = 1e-9;
 
 TEST_CASE("friction with mu = 0 reproduces the linear solution") {
   const auto start = std::chrono::steady_clock::now();
-  nlohmann::json source = CaseSource("frc_linear.json");
+  nlohmann::json source = CaseSource("fig7.json#linear");
   source["nonlinearities"][0]["mu"] = 0.0;
   source["harmonics"] = {{"max", 19}, {"odd_only", true}};  // N_φ = 20
   source["continuation"]["omega_start"] = 0.1;

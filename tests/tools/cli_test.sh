@@ -166,7 +166,7 @@ stopped() {  # stopped NAME SIGNAL AFTER_SECONDS FILE -- command...
 stopped "run stopped by SIGHUP" HUP 2 "$work/hup/branch.json" -- \
   "$nfrc" run "$src/cases/friction/point_e.json" --out "$work/hup"
 stopped "refine stopped by SIGTERM" TERM 0.5 "$work/int/refinement.json" -- \
-  "$nfrc" refine "$src/cases/rod/rigid_nh40.json" --omega 63953.9 --epsilon0 1e9 --steps 40 \
+  "$nfrc" refine "$src/cases/rod/rigid.json#nh40" --omega 63953.9 --epsilon0 1e9 --steps 40 \
   --out "$work/int"
 stopped "sweep stopped by SIGTERM" TERM 1 "$work/sweep/sweep.json" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].normal_load" \
@@ -193,6 +193,27 @@ expect "grid sweep resumed" 0 "4 of 4 runs complete" -- \
 expect "grid sweep of other values refused" 1 "--out" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]:0:4}" \
   --parameter "nonlinearities[0].mu" --values 0.9,0.7 --out "$work/grid"
+
+# A manifest: run one member by name, sweep all of them, and a grid over a field outside the
+# laws (the damping matrix) on the command line.
+cat > "$work/manifest.json" <<EOF
+{"manifest": "Duffing at two damping levels", "base": "$src/cases/duffing_h1.json",
+ "variants": [{"name": "light"}, {"name": "heavy", "set": {"model.C[0][0]": 0.2}}]}
+EOF
+expect "run a member of a manifest" 0 "reached_lambda_bound" -- \
+  "$nfrc" run "$work/manifest.json#heavy" --out "$work/member"
+expect "a manifest run without a member" 1 "a manifest of 2 cases (light, heavy)" -- \
+  "$nfrc" run "$work/manifest.json" --out "$work/member2"
+expect "an unknown member" 1 "no member \"medium\"" -- \
+  "$nfrc" run "$work/manifest.json#medium" --out "$work/member2"
+expect "sweep of a manifest" 0 "2 of 2 runs complete" -- \
+  "$nfrc" sweep "$work/manifest.json" --out "$work/msweep"
+expect "sweep of a case-file field outside the laws" 0 "2 of 2 runs complete" -- \
+  "$nfrc" sweep "$src/cases/duffing_h1.json" --parameter "model.C[0][0]" --values 0.05,0.2 \
+  --out "$work/csweep"
+expect "sweep of a path that names no number" 1 "names no number" -- \
+  "$nfrc" sweep "$src/cases/duffing_h1.json" --parameter "model.C[0][1]" --values 0.05 \
+  --out "$work/csweep2"
 
 # MPI: the same sweep on two ranks writes the same sweep.json as one process (the timings
 # aside). Open MPI refuses root without the first two. Under the sanitizers its start-up

@@ -31,12 +31,13 @@ CaseFile CaseFileNamed(const std::string& name) {
 // One-harmonic Duffing: the amplitude equation [(1 + βA² − ω²)² + (cω)²]A² = P², β = ¾k₃.
 // For a given A the bracket is smallest at ω² = 1 + βA² − c²/2, where it is
 // c²(1 + βA²) − c⁴/4: the largest A on the curve solves A² = P²/(c²(1 + βA²) − c⁴/4).
-double ClosedFormPeak(double force, double k3 = kK3) {
+// With a stiffness k in place of 1, k + βA² replaces 1 + βA².
+double ClosedFormPeak(double force, double k3 = kK3, double k = 1.0) {
   const double beta = 0.75 * k3;
   double amplitude = force / kC;
   for (int i = 0; i < 200; ++i) {
-    amplitude = force / std::sqrt(kC * kC * (1.0 + beta * amplitude * amplitude) -
-                                  0.25 * kC * kC * kC * kC);
+    amplitude =
+        force / std::sqrt(kC * kC * (k + beta * amplitude * amplitude) - 0.25 * kC * kC * kC * kC);
   }
   return amplitude;
 }
@@ -206,12 +207,30 @@ TEST_CASE("sweep: grid order, shape checks and records from before grids") {
   CHECK(RunSweep(file, force_cos, {0.05}, dir, {})[0].resumed);
 }
 
-TEST_CASE("sweep: the case file records the swept value at the parameter's path") {
+TEST_CASE("sweep: a field of the case file outside the laws and forcing (the stiffness K[0][0])") {
   const CaseFile file = CaseFileNamed("duffing_h1.json");
-  const nlohmann::json edited = WithField(file.source, "nonlinearities[0].coefficient", 0.25);
-  CHECK(edited["nonlinearities"][0]["coefficient"] == 0.25);
-  CHECK(WithField(file.source, "model.forcing[0].cos", 0.5)["model"]["forcing"][0]["cos"] == 0.5);
-  CHECK(edited["model"] == file.source["model"]);
+  const std::vector<double> stiffness = {0.8, 1.5};
+  const std::string dir = OutDir("stiffness");
+  const std::vector<SweepRun> runs =
+      RunSweep(file, SweepGrid{{"model.K[0][0]", stiffness}}, dir, {});
+  REQUIRE(runs.size() == 2);
+  for (size_t k = 0; k < runs.size(); ++k) {
+    CAPTURE(k);
+    REQUIRE(runs[k].status == "complete");
+    const double exact = ClosedFormPeak(0.18, kK3, stiffness[k]);
+    const double peak = runs[k].peaks.at("max_abs_0");
+    MESSAGE("k = " << stiffness[k] << ": peak " << peak << ", closed form " << exact);
+    CHECK(peak < exact * (1.0 + kRounding));
+    CHECK(peak > exact * (1.0 - kPeakTolerance));
+    // The branch's record holds the case as run, with the swept value at its path.
+    std::ifstream in(dir + "/" + runs[k].dir + "/branch.json");
+    const nlohmann::json branch = nlohmann::json::parse(in);
+    CHECK(branch["case"]["model"]["K"][0][0] == stiffness[k]);
+  }
+  CHECK_THROWS_WITH_AS(RunSweep(file, SweepGrid{{"model.K[3][0]", {1.0}}}, OutDir("bad"), {}),
+                       doctest::Contains("--parameter: \"model.K[3][0]\""), InputError);
+  CHECK_THROWS_WITH_AS(RunSweep(file, SweepGrid{{"title", {1.0}}}, OutDir("bad"), {}),
+                       doctest::Contains("names no number"), InputError);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// libFuzzer target of the case reader: bytes -> ParseJsonText -> the case parser. The only
+// libFuzzer target of the case reader: bytes -> ParseJsonText -> the case parser (and the
+// field paths of a manifest). The only
 // exception a case file may raise is nfrc::InputError; any other exception, a crash, a leak,
 // a timeout or a sanitizer report is a finding. Built with -DNFRC_FUZZ=ON (tools/fuzz/fuzz.cmake),
 // run by tools/fuzz/run_fuzz.sh.
@@ -15,6 +16,7 @@
 
 #include "core/errors.h"
 #include "tools/case_file.h"
+#include "tools/case_manifest.h"
 #include "tools/json_input.h"
 
 namespace {
@@ -22,6 +24,23 @@ namespace {
 // The case parser under test: the one call to adapt when it is renamed or moves.
 void ParseTheCase(const nlohmann::json& source, const std::string& base_dir) {
   nfrc::ParseCase(source, base_dir);
+}
+
+// The field paths of a manifest's variants ("set": {path: value}) applied to the document
+// itself: the path parser and ApplyFieldChange (ParseManifest would read its base file).
+void ApplyManifestChanges(const nlohmann::json& source) {
+  if (!nfrc::IsManifest(source) || !source.contains("variants")) return;
+  const nlohmann::json& variants = source.at("variants");
+  if (!variants.is_array()) return;
+  for (const nlohmann::json& variant : variants) {
+    if (!variant.is_object() || !variant.contains("set") || !variant.at("set").is_object())
+      continue;
+    nlohmann::json changed = source;
+    for (const auto& [path, value] : variant.at("set").items()) {
+      nfrc::ApplyFieldChange(&changed, {path, value}, "fuzz.json");
+      nfrc::FieldAt(changed, path);
+    }
+  }
 }
 
 // Keys of "model" whose string value is a Matrix Market path (tools/model_reader.cc).
@@ -79,6 +98,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const nlohmann::json source = nfrc::ParseJsonText(text, "fuzz.json");
     if (NamesFileOutsideBaseDir(source)) return 0;
+    ApplyManifestChanges(source);
     ParseTheCase(source, base_dir.path());
   } catch (const nfrc::InputError&) {
     // Rejected input with a message: the expected outcome for most inputs.

@@ -59,8 +59,28 @@ ROD_RUNS = ([name for _, name in FLEXIBLE] + [name for _, name in RIGID] + ["lin
             ["rigid_nh20_rho7800", "flexible_4krod_rho7800", "linear_rod_rho7800",
              "flexible_4krod_nt600"] + [name for _, name in RIGID_FINE] +
             list(PENALTY.values()))
-RUNS = ([(name, f"cases/rod/{name}.json") for name in ROD_RUNS] +
-        [(name, f"cases/contact/{name}.json") for name, _ in NLVIB])
+# Run names whose case is a member of a manifest (FILE#NAME); the others are files.
+MEMBERS = {
+    "flexible_0_4krod": "rod/flexible.json#k0_4",
+    "flexible_20krod": "rod/flexible.json#k20",
+    "flexible_40krod": "rod/flexible.json#k40",
+    "flexible_4krod_nt600": "rod/flexible.json#nt600",
+    "flexible_4krod_rho7800": "rod/flexible.json#rho7800",
+    "rigid_nh30": "rod/rigid.json#nh30",
+    "rigid_nh40": "rod/rigid.json#nh40",
+    "rigid_nh20_fine": "rod/rigid.json#nh20_fine",
+    "rigid_nh30_fine": "rod/rigid.json#nh30_fine",
+    "rigid_nh40_fine": "rod/rigid.json#nh40_fine",
+    "rigid_nh20_rho7800": "rod/rigid.json#rho7800",
+    "penalty_40krod": "rod/penalty.json#k40",
+    "linear_rod_rho7800": "rod/linear.json#rho7800",
+    "nlvib_dlft_flexible_eps0_5": "contact/nlvib.json#dlft_eps0_5",
+    "nlvib_dlft_flexible_h84": "contact/nlvib.json#dlft_h84",
+    "nlvib_penalty": "contact/nlvib.json#penalty",
+    "nlvib_penalty_h84": "contact/nlvib.json#penalty_h84",
+}
+RUNS = ([(name, "cases/" + MEMBERS.get(name, f"rod/{name}.json")) for name in ROD_RUNS] +
+        [(name, "cases/" + MEMBERS.get(name, f"contact/{name}.json")) for name, _ in NLVIB])
 
 EPS_SWEEP = [1e8, 2e8, 5e8, 1e9, 2e9, 5e9, 1e10, 2e10, 5e10, 1e11]
 EPS_REFINE = [1e11 * 2 ** i for i in range(16)]  # the paper's refinement, eps_i = 2 eps_{i-1}
@@ -68,7 +88,7 @@ EPS_LAWS = [1e8, 1e9, 1e10, 1e11]  # contact-law diagrams (Fig. 20 analogue)
 # (name, case, omega, epsilons)
 REFINEMENTS = [
     ("refine_flexible_4krod", "cases/rod/flexible_4krod.json", OMEGA0_CASES, EPS_SWEEP),
-    ("refine_flexible_4krod_nt600", "cases/rod/flexible_4krod_nt600.json", OMEGA0_CASES,
+    ("refine_flexible_4krod_nt600", "cases/rod/flexible.json#nt600", OMEGA0_CASES,
      EPS_SWEEP),
     ("refine_flexible_4krod_beyond", "cases/rod/flexible_4krod.json", OMEGA0_CASES,
      EPS_REFINE),

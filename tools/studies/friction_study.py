@@ -35,6 +35,32 @@ from study_common import (DPI, REPO, execute, load, parse_arguments, save, table
                           termination, value_at)
 
 CASES = "cases/friction"
+# Run names whose case is a member of a manifest in CASES (FILE#NAME); the others are files.
+MEMBERS = {
+    "frc_n8": "fig7.json#n8",
+    "frc_n9": "fig7.json#n9",
+    "frc_n10_5": "fig7.json#n10_5",
+    "frc_n11": "fig7.json#n11",
+    "frc_n12": "fig7.json#n12",
+    "frc_linear": "fig7.json#linear",
+    "convergence_e_nphi10": "convergence_e.json#nphi10",
+    "convergence_e_nphi20": "convergence_e.json#nphi20",
+    "convergence_e_nphi40": "convergence_e.json#nphi40",
+    "convergence_e_nphi80": "convergence_e.json#nphi80",
+    "convergence_e_nphi160": "convergence_e.json#nphi160",
+    "damper_mass_m2_0_5": "damper_mass.json#m2_0_5",
+    "damper_mass_m2_0_25": "damper_mass.json#m2_0_25",
+    "damper_mass_m2_0_125": "damper_mass.json#m2_0_125",
+    "damper_mass_m2_0": "damper_mass.json#m2_0",
+    "piecewise_linear_delta_2": "piecewise_linear.json#delta_2",
+    "piecewise_linear_delta_1": "piecewise_linear.json#delta_1",
+    "piecewise_linear_delta_0_5": "piecewise_linear.json#delta_0_5",
+    "piecewise_linear_delta_0_25": "piecewise_linear.json#delta_0_25",
+    "signals_a": "signals.json#a",
+    "signals_b": "signals.json#b",
+    "signals_c": "signals.json#c",
+    "signals_d": "signals.json#d",
+}
 
 # (run name = case file stem, group)
 FRC_LOADS = [("frc_n8", 8.0), ("frc_n9", 9.0), ("frc_n10", 10.0), ("frc_n10_5", 10.5),
@@ -84,7 +110,7 @@ def run_one(nfrc, out, name, force):
     Returns (status, seconds)."""
     if not force and termination(load(out, name)) == "reached_lambda_bound":
         return "skipped (already reached_lambda_bound)", 0.0
-    code, seconds = execute([nfrc, "run", os.path.join(REPO, CASES, name + ".json"), "--out",
+    code, seconds = execute([nfrc, "run", os.path.join(REPO, CASES, MEMBERS.get(name, name + ".json")), "--out",
                              os.path.join(out, name)], os.path.join(out, name))
     return f"exit {code} ({termination(load(out, name))})", seconds
 

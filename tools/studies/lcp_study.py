@@ -58,7 +58,7 @@ REFINEMENTS = [
     ("refine_rigid_nt600", "cases/lcp/rigid_dlft_nt600.json",
      ["--epsilon0", "1e11", "--factor", "2", "--steps", "15"]),
     ("refine_flexible_4krod", "cases/rod/flexible_4krod.json", ["--epsilons", f"{K_OBS:g}"]),
-    ("refine_flexible_4krod_nt600", "cases/rod/flexible_4krod_nt600.json",
+    ("refine_flexible_4krod_nt600", "cases/rod/flexible.json#nt600",
      ["--epsilons", ",".join(f"{e:g}" for e in EPS_NT600)]),
 ]
 EPS_COLOURS = {1e8: "tab:blue", 1e9: "tab:orange", 1e10: "tab:green", 1e11: "tab:red"}

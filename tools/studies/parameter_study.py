@@ -182,7 +182,9 @@ def study1_commands(out):
             arguments += ["--near", f"{near:g}"]
         commands.append((peak_name(start, to, measure, near), arguments))
     for _, stem in PAPER_LOADS:
-        commands.append((f"run_{stem}", ["run", os.path.join(REPO, "cases/friction", stem + ".json")]))
+        # The paper's loads are the members of the Fig. 7 manifest (frc_n10_5 is fig7.json#n10_5).
+        commands.append((f"run_{stem}",
+                         ["run", os.path.join(REPO, "cases/friction/fig7.json#" + stem[4:])]))
     return commands
 
 
