@@ -178,13 +178,10 @@ CaseFile ReadCaseFile(const std::string& path) {
   if (IsManifest(document)) {
     const CaseManifest manifest = ParseManifest(document, file_path);
     if (!member) {
-      std::string names;
-      for (const CaseVariant& variant : manifest.variants) {
-        names += (names.empty() ? "" : ", ") + variant.name;
-      }
       throw InputError(file_path + ": manifest: a manifest of " +
-                       std::to_string(manifest.variants.size()) + " cases (" + names +
-                       "): name one as " + file_path + "#NAME, or run them all with nfrc sweep");
+                       std::to_string(manifest.variants.size()) + " cases (" +
+                       MemberNames(manifest) + "): name one as " + file_path +
+                       "#NAME, or run them all with nfrc sweep");
     }
     file.source = VariantSource(manifest, FindVariant(manifest, path.substr(hash + 1)));
     file.base_dir = std::filesystem::path(manifest.base_path).parent_path().string();

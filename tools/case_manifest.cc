@@ -225,17 +225,23 @@ CaseManifest ReadManifest(const std::string& path) {
   return ParseManifest(document, path);
 }
 
-size_t FindVariant(const CaseManifest& manifest, const std::string& member) {
+std::string MemberNames(const CaseManifest& manifest) {
   std::string names;
+  for (const CaseVariant& variant : manifest.variants) {
+    names += (names.empty() ? "" : ", ") + variant.name;
+  }
+  return names;
+}
+
+size_t FindVariant(const CaseManifest& manifest, const std::string& member) {
   for (size_t k = 0; k < manifest.variants.size(); ++k) {
     if (manifest.variants[k].name == member) return k;
-    names += (k == 0 ? "" : ", ") + manifest.variants[k].name;
   }
   const bool index = !member.empty() && member.size() < 9 &&
                      member.find_first_not_of("0123456789") == std::string::npos;
   if (index && std::stoul(member) < manifest.variants.size()) return std::stoul(member);
   throw InputError(manifest.path + ": manifest.variants: no member \"" + member +
-                   "\" (the members are " + names + ")");
+                   "\" (the members are " + MemberNames(manifest) + ")");
 }
 
 nlohmann::json VariantSource(const CaseManifest& manifest, size_t index) {

@@ -49,6 +49,8 @@ bool IsManifest(const nlohmann::json& document);
 // Throws InputError naming the manifest file and the field.
 CaseManifest ParseManifest(const nlohmann::json& document, const std::string& path);
 CaseManifest ReadManifest(const std::string& path);
+// The members' names joined by ", " (for messages listing them).
+std::string MemberNames(const CaseManifest& manifest);
 // The index of the member named `member` (a name, or an index among the variants); InputError
 // listing the names if there is none.
 size_t FindVariant(const CaseManifest& manifest, const std::string& member);

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/errors.h"
+#include "support/duffing_peak.h"
 #include "tools/case_file.h"
 #include "tools/sweep.h"
 
@@ -130,18 +131,6 @@ TEST_CASE("manifest: bad manifests name the file and the field") {
                        doctest::Contains("this is a case file, not a manifest"), InputError);
 }
 
-// The closed-form peak of the one-harmonic Duffing oscillator (as in sweep_test.cc): the
-// largest A on [(1 + βA² − ω²)² + (cω)²]A² = P² solves A² = P²/(c²(1 + βA²) − c⁴/4).
-double ClosedFormPeak(double force, double c, double k3) {
-  const double beta = 0.75 * k3;
-  double amplitude = force / c;
-  for (int i = 0; i < 200; ++i) {
-    amplitude =
-        force / std::sqrt(c * c * (1.0 + beta * amplitude * amplitude) - 0.25 * c * c * c * c);
-  }
-  return amplitude;
-}
-
 TEST_CASE("manifest: nfrc sweep of a manifest traces every variant, and resumes") {
   const std::string path = WriteManifest("sweep", DuffingManifest());
   const CaseManifest manifest = ReadManifest(path);
@@ -160,7 +149,7 @@ TEST_CASE("manifest: nfrc sweep of a manifest traces every variant, and resumes"
     CAPTURE(k);
     REQUIRE(runs[k].status == "complete");
     CHECK(runs[k].name == manifest.variants[k].name);
-    const double exact = ClosedFormPeak(0.18, damping[k], 0.1);
+    const double exact = testing::DuffingPeakAmplitude(0.18, damping[k], 0.1);
     const double peak = runs[k].peaks.at("max_abs_0");
     MESSAGE(runs[k].name << ": peak " << peak << ", closed form " << exact);
     CHECK(peak < exact * (1.0 + 1e-12));

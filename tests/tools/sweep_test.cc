@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "core/errors.h"
+#include "support/duffing_peak.h"
 
 namespace nfrc {
 namespace {
@@ -28,18 +29,9 @@ CaseFile CaseFileNamed(const std::string& name) {
   return ReadCaseFile(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
 }
 
-// One-harmonic Duffing: the amplitude equation [(1 + βA² − ω²)² + (cω)²]A² = P², β = ¾k₃.
-// For a given A the bracket is smallest at ω² = 1 + βA² − c²/2, where it is
-// c²(1 + βA²) − c⁴/4: the largest A on the curve solves A² = P²/(c²(1 + βA²) − c⁴/4).
-// With a stiffness k in place of 1, k + βA² replaces 1 + βA².
+// The closed-form peak of duffing_h1.json (c = kC) at forcing P, k₃ and stiffness k.
 double ClosedFormPeak(double force, double k3 = kK3, double k = 1.0) {
-  const double beta = 0.75 * k3;
-  double amplitude = force / kC;
-  for (int i = 0; i < 200; ++i) {
-    amplitude =
-        force / std::sqrt(kC * kC * (k + beta * amplitude * amplitude) - 0.25 * kC * kC * kC * kC);
-  }
-  return amplitude;
+  return testing::DuffingPeakAmplitude(force, kC, k3, k);
 }
 
 TEST_CASE("sweep: one branch per forcing level, peaks against the closed form, threads = serial") {
