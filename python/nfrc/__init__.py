@@ -303,18 +303,27 @@ def sweep(case, parameter, values=None, progress=False):
     after the other; analyses release the GIL, so Python threads can run several sweeps at
     once. `nfrc sweep` writes the same runs to disk, with threads, MPI ranks and resume.
 
+    `case` may also be the path of a case file (or "MANIFEST.json#NAME"): then `parameter` may
+    name any numeric field of its JSON ("model.C[0][0]", "harmonics.max", ...), set there and
+    the case read again, as `nfrc sweep` does.
+
     A grid of several parameters: sweep(case, {path: values, path2: values2}) or
     sweep(case, [(path, values), (path2, values2)]), without `values`: one run per point of
     the Cartesian product, the last parameter varying fastest (as `nfrc sweep`), each with
     "values" ({path: v, path2: w}) and no "value"."""
     if values is not None:
-        runs = _nfrc._sweep(case, [(str(parameter), [float(v) for v in values])], bool(progress))
+        axes = [(str(parameter), [float(v) for v in values])]
+    else:
+        pairs = parameter.items() if isinstance(parameter, dict) else parameter
+        axes = [(str(path), [float(v) for v in vals]) for path, vals in pairs]
+    if isinstance(case, (str, os.PathLike)):
+        runs = _nfrc._sweep_file(os.fspath(case), axes, bool(progress))
+    else:
+        runs = _nfrc._sweep(case, axes, bool(progress))
+    if values is not None:
         for run in runs:
             (run["value"],) = run["values"].values()
-        return runs
-    axes = parameter.items() if isinstance(parameter, dict) else parameter
-    return _nfrc._sweep(case, [(str(path), [float(v) for v in vals]) for path, vals in axes],
-                        bool(progress))
+    return runs
 
 
 def solve_at(case, omega, progress=False):

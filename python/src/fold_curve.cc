@@ -2,6 +2,7 @@
 #include "analysis/fold_curve.h"
 
 #include <algorithm>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -40,6 +41,57 @@ py::dict CurveDict(const FoldCurve& curve, const std::vector<std::string>& outpu
                   "termination"_a = ToString(curve.summary.reason),
                   "message"_a = curve.summary.message, "parameter"_a = parameter, "omega"_a = omega,
                   "energy"_a = energy, "max_abs"_a = max_abs, "turns"_a = turns);
+}
+
+// nfrc.sweep's loop: one branch per grid point, each case made by case_at(k, point); a value
+// the case refuses fails that run only, Ctrl-C stops the running branch and leaves the rest
+// pending.
+py::list SweepRuns(const SweepGrid& grid,
+                   const std::function<Case(size_t, const std::vector<double>&)>& case_at,
+                   bool progress) {
+  CheckGrid(grid);
+  py::list runs;
+  bool interrupted = false;
+  for (size_t k = 0; k < GridSize(grid); ++k) {
+    const std::vector<double> point = GridPoint(grid, k);
+    py::dict values;
+    for (size_t i = 0; i < grid.size(); ++i) values[py::str(grid[i].path)] = point[i];
+    py::dict run("values"_a = values);
+    if (interrupted) {
+      run["status"] = "pending";
+      runs.append(run);
+      continue;
+    }
+    // A value the case refuses is the run's status, not the end of the sweep.
+    std::optional<Case> at_point;
+    try {
+      at_point = case_at(k, point);
+    } catch (const InputError& error) {
+      run["status"] = "failed";
+      run["message"] = error.what();
+      runs.append(run);
+      continue;
+    }
+    InterruptWatch watch;
+    TraceOptions options;
+    options.progress = progress ? &std::cerr : nullptr;
+    options.stop = watch.stop();
+    options.observer = &watch;
+    BranchView branch{{}, std::make_shared<OutputNaming>(*at_point), false};
+    {
+      py::gil_scoped_release release;
+      branch.result = TraceCase(*at_point, options);
+    }
+    branch.interrupted = watch.Finish();
+    interrupted = branch.interrupted;
+    const ContinuationSummary& summary = branch.result.branch.summary;
+    const bool complete = summary.success() || summary.reason == TerminationReason::kMaxPoints;
+    run["status"] = interrupted ? "interrupted" : complete ? "complete" : "failed";
+    run["message"] = summary.message;
+    run["branch"] = std::move(branch);
+    runs.append(run);
+  }
+  return runs;
 }
 
 }  // namespace
@@ -126,53 +178,32 @@ void BindFoldCurve(py::module_& m) {
         SweepGrid grid;
         for (const auto& [path, values] : axes)
           grid.push_back({CaseParameter(path, the_case), values});
-        CheckGrid(grid);
-        py::list runs;
-        bool interrupted = false;
-        for (size_t k = 0; k < GridSize(grid); ++k) {
-          const std::vector<double> point = GridPoint(grid, k);
-          py::dict values;
-          for (size_t i = 0; i < grid.size(); ++i)
-            values[py::str(grid[i].path)] = point[i];
-          py::dict run("values"_a = values);
-          if (interrupted) {
-            run["status"] = "pending";
-            runs.append(run);
-            continue;
-          }
-          // A value the case refuses is the run's status, not the end of the sweep.
-          std::optional<Case> at_point;
-          try {
-            at_point = CaseAtGridPoint(the_case, grid, point);
-          } catch (const InputError& error) {
-            run["status"] = "failed";
-            run["message"] = error.what();
-            runs.append(run);
-            continue;
-          }
-          InterruptWatch watch;
-          TraceOptions options;
-          options.progress = progress ? &std::cerr : nullptr;
-          options.stop = watch.stop();
-          options.observer = &watch;
-          BranchView branch{{}, std::make_shared<OutputNaming>(*at_point), false};
-          {
-            py::gil_scoped_release release;
-            branch.result = TraceCase(*at_point, options);
-          }
-          branch.interrupted = watch.Finish();
-          interrupted = branch.interrupted;
-          const ContinuationSummary& summary = branch.result.branch.summary;
-          const bool complete =
-              summary.success() || summary.reason == TerminationReason::kMaxPoints;
-          run["status"] = interrupted ? "interrupted" : complete ? "complete" : "failed";
-          run["message"] = summary.message;
-          run["branch"] = std::move(branch);
-          runs.append(run);
-        }
-        return runs;
+        return SweepRuns(
+            grid,
+            [&](size_t, const std::vector<double>& point) {
+              return CaseAtGridPoint(the_case, grid, point);
+            },
+            progress);
       },
       "case"_a, "axes"_a, "progress"_a = false);
+  // A case file (or a manifest's member): any numeric field of its JSON, as `nfrc sweep`.
+  m.def(
+      "_sweep_file",
+      [](const std::string& path,
+         const std::vector<std::pair<std::string, std::vector<double>>>& axes, bool progress) {
+        const CaseFile file = ReadCaseFile(path);
+        SweepGrid grid;
+        for (const auto& [field, values] : axes) grid.emplace_back(field, values);
+        CheckGridPaths(file, grid);
+        const SweepPlan plan(grid);
+        return SweepRuns(
+            grid,
+            [&](size_t k, const std::vector<double>&) {
+              return CaseForRun(file, plan, k).the_case;
+            },
+            progress);
+      },
+      "path"_a, "axes"_a, "progress"_a = false);
 }
 
 }  // namespace nfrc::python

@@ -44,11 +44,11 @@ def test_fold_curve_refuses_a_field_the_case_does_not_have():
         nfrc.fold_curve(case, "nonlinearities[0].mu", 0.1)
 
 
-def closed_form_peak(force, k3=K3):
+def closed_form_peak(force, k3=K3, c=C):
     """Largest amplitude on the one-harmonic curve: A^2 = P^2 / (c^2 (k + b A^2) - c^4 / 4)."""
-    beta, amplitude = 0.75 * k3, force / C
+    beta, amplitude = 0.75 * k3, force / c
     for _ in range(200):
-        amplitude = force / math.sqrt(C * C * (K + beta * amplitude ** 2) - 0.25 * C ** 4)
+        amplitude = force / math.sqrt(c * c * (K + beta * amplitude ** 2) - 0.25 * c ** 4)
     return amplitude
 
 
@@ -90,6 +90,27 @@ def test_sweep_grid_traces_every_point_last_parameter_fastest():
     assert [run["values"] for run in pairs] == [runs[0]["values"], runs[2]["values"]]
     with pytest.raises(nfrc.InputError, match="swept twice"):
         nfrc.sweep(case, [(force, [0.1]), (force, [0.2])])
+
+
+def test_sweep_of_a_case_file_sets_any_field_of_its_json(tmp_path):
+    """With a case-file path, a field outside the laws and forcing (the damping matrix) is
+    swept as `nfrc sweep` does; the peaks against the closed form with that damping."""
+    path = os.path.join(CASES, "duffing_h1.json")
+    runs = nfrc.sweep(path, "model.C[0][0]", [0.05, 0.1])
+    assert [run["status"] for run in runs] == ["complete", "complete"]
+    for run in runs:
+        peak = max(run["branch"].measure("max_abs"))
+        exact = closed_form_peak(0.18, c=run["value"])
+        assert exact * (1 - PEAK_TOLERANCE) < peak < exact * (1 + 1e-12)
+    with pytest.raises(nfrc.InputError, match="names no number"):
+        nfrc.sweep(path, "model.C[0][1]", [0.1])
+    # A member of a manifest is a case file too.
+    manifest = tmp_path / "m.json"
+    manifest.write_text('{"manifest": "m", "base": "%s", "variants": [{"name": "a"}]}' % path)
+    (run,) = nfrc.sweep(f"{manifest}#a", "model.forcing[0].cos", [0.05])
+    assert run["status"] == "complete"
+    exact = closed_form_peak(0.05)
+    assert exact * (1 - PEAK_TOLERANCE) < max(run["branch"].measure("max_abs")) < exact * (1 + 1e-12)
 
 
 def closed_form_peak_point(force):
