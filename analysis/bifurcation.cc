@@ -12,7 +12,8 @@ namespace nfrc {
 namespace {
 
 // A localised crossing whose multipliers are still this far from |μ| = 1 once ω is pinned to
-// bifurcation_tolerance jumped across the circle (a smooth crossing passes through it).
+// bifurcation_tolerance (or on both sides of a bracket within jump_tolerance) jumped across
+// the circle (a smooth crossing passes through it).
 constexpr double kJumpModulus = 0.05;
 
 using Complex = std::complex<double>;
@@ -117,7 +118,21 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
   bifurcation.crossing_multipliers = CrossingMultipliers(b_nearer ? floquet_b : floquet_a, type);
   bifurcation.omega_accuracy = std::abs(wb - wa);
   int last_side = 0;  // 1: a was replaced last, 2: b (Illinois halves the other end's value)
+  // The ends' log-moduli as computed (fa and fb carry Illinois's halvings).
+  double log_a = fa, log_b = fb;
+  const auto jumped = [&] {
+    const auto off_circle = [](double log_modulus) {
+      return std::isfinite(log_modulus) && std::abs(std::exp(log_modulus) - 1.0) > kJumpModulus;
+    };
+    return std::abs(wb - wa) <= options_.jump_tolerance * std::max(std::abs(wa), std::abs(wb)) &&
+           off_circle(log_a) && off_circle(log_b);
+  };
   for (int iteration = 1; iteration <= options_.max_bifurcation_iterations; ++iteration) {
+    if (jumped()) {
+      bifurcation.converged = true;
+      bifurcation.discontinuous = true;
+      return bifurcation;
+    }
     double w = 0.5 * (wa + wb);
     if (std::isfinite(fa) && std::isfinite(fb) && (fa < 0.0) != (fb < 0.0)) {
       const double secant = (wa * fb - wb * fa) / (fb - fa);
@@ -138,12 +153,14 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
       wa = w;
       ya = solved.y;
       fa = f;
+      log_a = f;
       if (last_side == 1) fb *= 0.5;
       last_side = 1;
     } else {
       wb = w;
       yb = solved.y;
       fb = f;
+      log_b = f;
       if (last_side == 2) fa *= 0.5;
       last_side = 2;
     }

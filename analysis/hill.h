@@ -27,6 +27,8 @@ struct HillPencil {
   std::vector<int> signal_offsets;
   // Dimension of the physical state (2 per DOF with mass): how many exponents to expect.
   int state_dimension = 0;
+  // The laws' own unknowns run from here to the end (-1: there are none).
+  int own_offset = -1;
 };
 
 // Assembles the pencils of one HarmonicSystem at many points (a trace analyses every one):

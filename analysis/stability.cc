@@ -13,6 +13,9 @@ void StabilityOptions::Validate() const {
   if (!(bifurcation_tolerance > 0.0) || !(bifurcation_tolerance < 1.0)) {
     throw InputError("stability.bifurcation_tolerance: must be in (0, 1)");
   }
+  if (!(jump_tolerance > 0.0) || !(jump_tolerance < 1.0)) {
+    throw InputError("stability.jump_tolerance: must be in (0, 1)");
+  }
   if (max_bifurcation_iterations < 1) {
     throw InputError("stability.max_bifurcation_iterations: must be at least 1");
   }

@@ -20,6 +20,11 @@ struct StabilityOptions {
   // Bifurcations are localised in ω to this relative accuracy (as folds are).
   double bifurcation_tolerance = 1e-6;
   int max_bifurcation_iterations = 40;
+  // A crossing whose multipliers stay more than 5 % off the unit circle at both ends of a
+  // bracket this narrow (relative in ω) jumped across it where a sampled nonsmooth law
+  // switched (Bifurcation::discontinuous): no smooth crossing lies in between, so its
+  // localisation stops there instead of halving a jump down to bifurcation_tolerance.
+  double jump_tolerance = 1e-4;
   // Throws InputError("stability.<field>: ...") for a bad value.
   void Validate() const;
 };

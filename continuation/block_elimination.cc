@@ -5,19 +5,11 @@
 #include <utility>
 
 namespace nfrc {
-namespace {
 
-// A pivot of a block or of the Schur complement below this fraction of its largest one
-// leaves the elimination to the whole LU: the Schur complement is formed with the blocks'
-// inverses, so their conditioning enters it (at 1e-8, up to eight digits of the sixteen).
-constexpr double kMinPivotRatio = 1e-8;
-
-bool Regular(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
+bool RegularForElimination(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
-  return pivots.size() == 0 || pivots.minCoeff() > kMinPivotRatio * pivots.maxCoeff();
+  return pivots.size() == 0 || pivots.minCoeff() > kMinEliminationPivotRatio * pivots.maxCoeff();
 }
-
-}  // namespace
 
 void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n) {
   std::vector<bool> seen(static_cast<size_t>(n), false);
@@ -65,7 +57,7 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   factors.reserve(blocks.size());
   for (const std::vector<int>& block : blocks) {
     factors.emplace_back(Eigen::MatrixXd(a(block, block)));
-    if (!Regular(factors.back())) return false;
+    if (!RegularForElimination(factors.back())) return false;
     std::vector<int> columns, positions;
     for (int j = 0; j < num_rest; ++j) {
       bool nonzero = false;
@@ -86,7 +78,7 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
     block_times_coupling.push_back(std::move(coupling));
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
-  if (!Regular(schur_lu)) return false;
+  if (!RegularForElimination(schur_lu)) return false;
   const Eigen::VectorXd rest_solution = schur_lu.solve(schur_rhs);
 
   x->resize(size);

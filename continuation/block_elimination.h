@@ -10,6 +10,14 @@ namespace nfrc {
 // unknowns, only with itself and with the rest.
 using EliminationBlocks = std::vector<std::vector<int>>;
 
+// A pivot below this fraction of the largest one makes an elimination give way to the whole
+// LU: a Schur complement formed with the blocks' inverses carries their conditioning (at
+// 1e-8, up to eight digits of the sixteen).
+constexpr double kMinEliminationPivotRatio = 1e-8;
+
+// True when every pivot of the LU is above kMinEliminationPivotRatio times the largest.
+bool RegularForElimination(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu);
+
 // Throws std::invalid_argument if an index is outside [0, n) or in two blocks.
 void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n);
 

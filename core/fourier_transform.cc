@@ -204,24 +204,36 @@ Eigen::MatrixXd FourierTransform::WeightedProduct(
   fft_->Forward(weights.data());
   // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
   // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry).
-  auto cos_sum = [&](int m) {
-    m = ((m % n_t) + n_t) % n_t;
-    return (m <= n_t / 2 ? spectrum[m].real() : spectrum[n_t - m].real()) / n_t;
-  };
+  // Tabulated once for 0 ≤ m ≤ 2H: cos_sum(−m) = cos_sum(m), sin_sum(−m) = −sin_sum(m).
+  const int top = 2 * set_.max_harmonic();
+  std::vector<double> cos_table(static_cast<size_t>(top) + 1), sin_table(cos_table.size());
+  for (int m = 0; m <= top; ++m) {
+    const int r = m % n_t;
+    cos_table[static_cast<size_t>(m)] =
+        (r <= n_t / 2 ? spectrum[r].real() : spectrum[n_t - r].real()) / n_t;
+    sin_table[static_cast<size_t>(m)] =
+        (r <= n_t / 2 ? -spectrum[r].imag() : spectrum[n_t - r].imag()) / n_t;
+  }
+  auto cos_sum = [&](int m) { return cos_table[static_cast<size_t>(std::abs(m))]; };
   auto sin_sum = [&](int m) {
-    m = ((m % n_t) + n_t) % n_t;
-    return (m <= n_t / 2 ? -spectrum[m].imag() : spectrum[n_t - m].imag()) / n_t;
+    return m >= 0 ? sin_table[static_cast<size_t>(m)] : -sin_table[static_cast<size_t>(-m)];
   };
   const int n_c = set_.NumCoefficients();
+  const int n_h = set_.num_harmonics();
+  std::vector<int> cos_index(static_cast<size_t>(n_h)), sin_index(cos_index.size());
+  for (int p = 0; p < n_h; ++p) {
+    cos_index[static_cast<size_t>(p)] = set_.CosIndex(p);
+    sin_index[static_cast<size_t>(p)] = set_.SinIndex(p);
+  }
   Eigen::MatrixXd product(n_c, n_c);
-  for (int p = 0; p < set_.num_harmonics(); ++p) {
+  for (int p = 0; p < n_h; ++p) {
     const int j = set_.harmonics()[p];
-    const int rc = set_.CosIndex(p);
-    const int rs = set_.SinIndex(p);
-    for (int q = 0; q < set_.num_harmonics(); ++q) {
+    const int rc = cos_index[static_cast<size_t>(p)];
+    const int rs = sin_index[static_cast<size_t>(p)];
+    for (int q = 0; q < n_h; ++q) {
       const int k = set_.harmonics()[q];
-      const int cc = set_.CosIndex(q);
-      const int cs = set_.SinIndex(q);
+      const int cc = cos_index[static_cast<size_t>(q)];
+      const int cs = sin_index[static_cast<size_t>(q)];
       if (j == 0 && k == 0) {
         product(rc, cc) = cos_sum(0);
       } else if (j == 0) {

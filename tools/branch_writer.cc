@@ -76,7 +76,8 @@ nlohmann::json StabilityOptionsToJson(const StabilityOptions& o) {
   return {{"enabled", o.enabled},
           {"unstable_tolerance", o.unstable_tolerance},
           {"bifurcation_tolerance", o.bifurcation_tolerance},
-          {"max_bifurcation_iterations", o.max_bifurcation_iterations}};
+          {"max_bifurcation_iterations", o.max_bifurcation_iterations},
+          {"jump_tolerance", o.jump_tolerance}};
 }
 
 // The CSV's stability columns: empty when not computed, so that a reader tells "not

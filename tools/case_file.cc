@@ -108,6 +108,7 @@ StabilityOptions ReadStability(const nlohmann::json& spec) {
   o.bifurcation_tolerance = fields.OptionalNumber("bifurcation_tolerance", o.bifurcation_tolerance);
   o.max_bifurcation_iterations =
       fields.OptionalInt("max_bifurcation_iterations", o.max_bifurcation_iterations);
+  o.jump_tolerance = fields.OptionalNumber("jump_tolerance", o.jump_tolerance);
   fields.Finish();
   return o;
 }

@@ -165,7 +165,7 @@ class _Continuation(_Options):
 
 class _Stability(_Options):
     """A case's stability options (enabled, unstable_tolerance, bifurcation_tolerance,
-    max_bifurcation_iterations)."""
+    max_bifurcation_iterations, jump_tolerance)."""
 
     __slots__ = ()
     _what = "stability"

@@ -10,7 +10,8 @@ namespace {
 using namespace pybind11::literals;
 
 const char kStabilityOptions[] =
-    "enabled, unstable_tolerance, bifurcation_tolerance, max_bifurcation_iterations";
+    "enabled, unstable_tolerance, bifurcation_tolerance, max_bifurcation_iterations, "
+    "jump_tolerance";
 
 py::dict ResponseMeasures(const PointMeasures& m) {
   return py::dict("energy"_a = m.energy, "max_abs"_a = m.max_abs, "min"_a = m.min, "max"_a = m.max,
@@ -27,7 +28,8 @@ py::object Stable(const FloquetResult& f) {
 py::dict GetStability(const StabilityOptions& s) {
   return py::dict("enabled"_a = s.enabled, "unstable_tolerance"_a = s.unstable_tolerance,
                   "bifurcation_tolerance"_a = s.bifurcation_tolerance,
-                  "max_bifurcation_iterations"_a = s.max_bifurcation_iterations);
+                  "max_bifurcation_iterations"_a = s.max_bifurcation_iterations,
+                  "jump_tolerance"_a = s.jump_tolerance);
 }
 
 void SetStabilityOption(StabilityOptions& s, const std::string& key, const py::handle& value) {
@@ -46,6 +48,8 @@ void SetStabilityOption(StabilityOptions& s, const std::string& key, const py::h
     s.bifurcation_tolerance = Cast<double>(value, field, "a number");
   } else if (key == "max_bifurcation_iterations") {
     s.max_bifurcation_iterations = Cast<int>(value, field, "an integer");
+  } else if (key == "jump_tolerance") {
+    s.jump_tolerance = Cast<double>(value, field, "a number");
   } else {
     throw InputError(field + ": unknown option (known: " + kStabilityOptions + ")");
   }

@@ -251,15 +251,7 @@ TEST_CASE(
 // the condensed relative row are different combinations of the same equations; their
 // agreement is checked through the folds of the rod in stability_test.)
 TEST_CASE("hill: delta0 condensed is DLFT's Jacobian against a rigid obstacle") {
-  Case c = testing::ChainCase(4);
-  c.model.forcing = {ForcingTerm{3, 1, 0.3, 0.0}};
-  c.harmonics = HarmonicSet(4, false, 32);
-  ContactGeometry geometry;
-  geometry.dof = 3;
-  geometry.gap = 0.05;
-  c.laws.push_back(DlftContactSpec{{geometry, 0.0, 0.0}});
-  c.output_dofs = {0};
-  c.output_names = {"0"};
+  const Case c = testing::ChainAgainstRigidObstacle(HarmonicSet(4, false, 32));
   auto system = BuildSystem(c);
   const double omega = 0.9;
   Eigen::VectorXd y = system->InitialGuess(omega);

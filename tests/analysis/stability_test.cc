@@ -52,6 +52,51 @@ TEST_CASE("stability: Duffing's middle branch is unstable exactly between the fo
   }
 }
 
+TEST_CASE("stability: a jump across the unit circle stops its localisation at jump_tolerance") {
+  // NLvib's unilateral spring as a sampled penalty law: dozens of Neimark-Sacker crossings
+  // near the resonance are jumps where a sample enters or leaves contact. The reference is
+  // the same trace localised by bisection down to bifurcation_tolerance (jump_tolerance too
+  // small to apply), which must confirm each early stop as a jump inside its bracket.
+  Case fast = LoadSourceCase("contact/nlvib.json#penalty");
+  Case strict = fast;
+  strict.stability.jump_tolerance = 1e-15;
+  const TraceResult early = TraceCase(fast);
+  const TraceResult reference = TraceCase(strict);
+  REQUIRE(early.points.size() == reference.points.size());
+  REQUIRE(early.bifurcations.size() == reference.bifurcations.size());
+  int stopped = 0, smooth = 0, early_iterations = 0, reference_iterations = 0;
+  for (size_t i = 0; i < early.bifurcations.size(); ++i) {
+    const Bifurcation& b = early.bifurcations[i];
+    const Bifurcation& r = reference.bifurcations[i];
+    CAPTURE(b.omega);
+    REQUIRE(b.after_point == r.after_point);
+    REQUIRE(b.type == r.type);
+    early_iterations += b.iterations;
+    reference_iterations += r.iterations;
+    const bool early_stop = b.converged && b.discontinuous &&
+                            b.omega_accuracy > fast.stability.bifurcation_tolerance * b.omega;
+    if (early_stop) {
+      ++stopped;
+      CHECK(b.omega_accuracy <= fast.stability.jump_tolerance * b.omega);
+      // Bisected on to 1e-6, the same crossing stays a jump, inside the early bracket.
+      if (r.converged) {
+        CHECK(r.discontinuous);
+        CHECK(std::abs(b.omega - r.omega) <= b.omega_accuracy + r.omega_accuracy);
+      }
+    } else if (r.converged && !r.discontinuous) {
+      // A smooth crossing never meets the jump test: the same localisation, bit for bit.
+      ++smooth;
+      CHECK(b.omega == r.omega);
+      CHECK_FALSE(b.discontinuous);
+    }
+  }
+  MESSAGE(stopped << " jumps stopped early, " << smooth << " smooth crossings; localisation "
+                  << "iterations " << early_iterations << " against " << reference_iterations);
+  CHECK(stopped >= 10);
+  CHECK(smooth >= 1);
+  CHECK(early_iterations < reference_iterations);
+}
+
 TEST_CASE("stability: the one-DOF Coulomb oscillator is stable everywhere, stick-slip included") {
   // ẍ + 0.1ẋ + x + r = cos ωt with |r| ≤ 0.5: a damped one-DOF oscillator with a monotone
   // friction law contracts any two motions (the difference's energy only decreases), so its

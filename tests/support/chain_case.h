@@ -33,4 +33,19 @@ inline CoulombFrictionSpec Friction(int dof, double mu, double normal_load, int 
   return friction;
 }
 
+// The chain of four forced at its last DOF (0.3 N cos), which meets a rigid obstacle through
+// DLFT contact at gap 0.05 m, with output DOF 0.
+inline Case ChainAgainstRigidObstacle(const HarmonicSet& harmonics) {
+  Case c = ChainCase(4);
+  c.model.forcing = {ForcingTerm{3, 1, 0.3, 0.0}};
+  c.harmonics = harmonics;
+  ContactGeometry geometry;
+  geometry.dof = 3;
+  geometry.gap = 0.05;
+  c.laws.push_back(DlftContactSpec{{geometry, 0.0, 0.0}});
+  c.output_dofs = {0};
+  c.output_names = {"0"};
+  return c;
+}
+
 }  // namespace nfrc::testing

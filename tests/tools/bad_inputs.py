@@ -238,6 +238,8 @@ case_error("stability_unstable_tolerance_negative", DUFFING,
 case_error("stability_bifurcation_tolerance_one", DUFFING,
            setitem(["stability"], {"bifurcation_tolerance": 1.0}),
            "stability.bifurcation_tolerance")
+case_error("stability_jump_tolerance_negative", DUFFING,
+           setitem(["stability"], {"jump_tolerance": -1e-4}), "stability.jump_tolerance")
 case_error("stability_iterations_fraction", DUFFING,
            setitem(["stability"], {"max_bifurcation_iterations": 2.5}),
            "stability.max_bifurcation_iterations", "expected an integer")

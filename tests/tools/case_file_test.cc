@@ -69,12 +69,14 @@ TEST_CASE("the stability object is optional, read strictly and validated") {
   source["stability"] = {{"enabled", false},
                          {"unstable_tolerance", 1e-4},
                          {"bifurcation_tolerance", 1e-8},
-                         {"max_bifurcation_iterations", 12}};
+                         {"max_bifurcation_iterations", 12},
+                         {"jump_tolerance", 1e-3}};
   const StabilityOptions read = ParseCase(source, ".").stability;
   CHECK_FALSE(read.enabled);
   CHECK(read.unstable_tolerance == 1e-4);
   CHECK(read.bifurcation_tolerance == 1e-8);
   CHECK(read.max_bifurcation_iterations == 12);
+  CHECK(read.jump_tolerance == 1e-3);
 
   CHECK(ErrorWith("/stability/enabled", "no") ==
         "stability.enabled: expected true or false, got \"no\"");
@@ -83,6 +85,7 @@ TEST_CASE("the stability object is optional, read strictly and validated") {
   CHECK(
       ErrorWith("/stability/bifurcation_tolerance", 0.0).find("stability.bifurcation_tolerance:") ==
       0);
+  CHECK(ErrorWith("/stability/jump_tolerance", 1.0).find("stability.jump_tolerance:") == 0);
   CHECK(ErrorWith("/stability/max_bifurcation_iterations", 0)
             .find("stability.max_bifurcation_iterations:") == 0);
   CHECK(ErrorWith("/stability/tolerance", 1e-3) == "stability.tolerance: unknown key");

@@ -1,0 +1,172 @@
+#include "analysis/hill_solver.h"
+
+#include <numeric>
+
+#include "continuation/block_elimination.h"
+
+namespace nfrc {
+namespace {
+
+// The representative of i's set (union-find, with path halving).
+int Root(std::vector<int>& parent, int i) {
+  while (parent[static_cast<size_t>(i)] != i) {
+    parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+    i = parent[static_cast<size_t>(i)];
+  }
+  return i;
+}
+
+}  // namespace
+
+HillLinearSolver::HillLinearSolver(const Eigen::SparseMatrix<double>& matrix, int own_offset)
+    : size_(static_cast<int>(matrix.rows())), own_offset_(own_offset) {
+  eliminating_ = size_ - own_offset_ <= kMaxSchur && Eliminate(matrix);
+  if (eliminating_) {
+    ok_ = true;
+    return;
+  }
+  blocks_.clear();
+  sparse_lu_.analyzePattern(matrix);
+  sparse_lu_.factorize(matrix);
+  ok_ = sparse_lu_.info() == Eigen::Success;
+}
+
+bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
+  using Iterator = Eigen::SparseMatrix<double>::InnerIterator;
+  const int nd = own_offset_, nr = size_ - own_offset_;
+  // The displacement unknowns' blocks: connected components of H's pattern among them.
+  std::vector<int> parent(static_cast<size_t>(nd));
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int j = 0; j < nd; ++j) {
+    for (Iterator it(matrix, j); it; ++it) {
+      const int i = static_cast<int>(it.row());
+      if (i < nd && it.value() != 0.0)
+        parent[static_cast<size_t>(Root(parent, i))] = Root(parent, j);
+    }
+  }
+  std::vector<int> block_of(static_cast<size_t>(nd), -1), position(static_cast<size_t>(nd));
+  for (int i = 0; i < nd; ++i) {
+    const int root = Root(parent, i);
+    if (block_of[static_cast<size_t>(root)] < 0) {
+      block_of[static_cast<size_t>(root)] = static_cast<int>(blocks_.size());
+      blocks_.emplace_back();
+    }
+    Block& block = blocks_[static_cast<size_t>(block_of[static_cast<size_t>(root)])];
+    block_of[static_cast<size_t>(i)] = block_of[static_cast<size_t>(root)];
+    position[static_cast<size_t>(i)] = static_cast<int>(block.unknowns.size());
+    block.unknowns.push_back(i);
+    if (static_cast<int>(block.unknowns.size()) > kMaxBlock) return false;
+  }
+
+  // Which own unknowns each block couples to, in either direction.
+  std::vector<int> row_slot(static_cast<size_t>(nr), -1);
+  std::vector<Eigen::MatrixXd> block_matrices(blocks_.size());
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    const int nb = static_cast<int>(block.unknowns.size());
+    block_matrices[k] = Eigen::MatrixXd::Zero(nb, nb);
+    for (const int j : block.unknowns) {
+      for (Iterator it(matrix, j); it; ++it) {
+        const int i = static_cast<int>(it.row());
+        if (i < nd) {
+          block_matrices[k](position[static_cast<size_t>(i)], position[static_cast<size_t>(j)]) =
+              it.value();
+        } else if (row_slot[static_cast<size_t>(i - nd)] < 0) {
+          row_slot[static_cast<size_t>(i - nd)] = static_cast<int>(block.own_rows.size());
+          block.own_rows.push_back(i - nd);
+        }
+      }
+    }
+    for (const int r : block.own_rows) row_slot[static_cast<size_t>(r)] = -1;
+  }
+  for (int j = nd; j < size_; ++j) {
+    for (Iterator it(matrix, j); it; ++it) {
+      const int i = static_cast<int>(it.row());
+      if (i >= nd) continue;
+      std::vector<int>& columns =
+          blocks_[static_cast<size_t>(block_of[static_cast<size_t>(i)])].own_columns;
+      if (columns.empty() || columns.back() != j - nd) columns.push_back(j - nd);
+    }
+  }
+
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nr, nr);
+  for (int j = nd; j < size_; ++j) {
+    for (Iterator it(matrix, j); it; ++it) {
+      if (it.row() >= nd) schur(it.row() - nd, j - nd) = it.value();
+    }
+  }
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    const int nb = static_cast<int>(block.unknowns.size());
+    block.lu.compute(block_matrices[k]);
+    if (!RegularForElimination(block.lu)) return false;
+    const int nc = static_cast<int>(block.own_columns.size());
+    Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nb, nc);
+    for (int c = 0; c < nc; ++c) {
+      for (Iterator it(matrix, nd + block.own_columns[static_cast<size_t>(c)]); it; ++it) {
+        const int i = static_cast<int>(it.row());
+        if (i < nd && block_of[static_cast<size_t>(i)] == static_cast<int>(k)) {
+          coupling(position[static_cast<size_t>(i)], c) = it.value();
+        }
+      }
+    }
+    block.eliminated = block.lu.solve(coupling);
+    const int nrows = static_cast<int>(block.own_rows.size());
+    for (int r = 0; r < nrows; ++r)
+      row_slot[static_cast<size_t>(block.own_rows[static_cast<size_t>(r)])] = r;
+    block.rows = Eigen::MatrixXd::Zero(nrows, nb);
+    for (const int j : block.unknowns) {
+      for (Iterator it(matrix, j); it; ++it) {
+        if (it.row() >= nd) {
+          block.rows(row_slot[static_cast<size_t>(it.row() - nd)],
+                     position[static_cast<size_t>(j)]) = it.value();
+        }
+      }
+    }
+    for (const int r : block.own_rows) row_slot[static_cast<size_t>(r)] = -1;
+    // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
+    const Eigen::MatrixXd update = block.rows * block.eliminated;
+    schur(block.own_rows, block.own_columns) -= update;
+    block.local.resize(nb);
+    block.solution.resize(nb);
+    block.row_work.resize(nrows);
+    block.column_work.resize(nc);
+  }
+  schur_lu_.compute(schur);
+  schur_rhs_.resize(nr);
+  own_solution_.resize(nr);
+  return nr == 0 || RegularForElimination(schur_lu_);
+}
+
+void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
+  if (!eliminating_) {
+    *x = sparse_lu_.solve(rhs);
+    return;
+  }
+  x->resize(size_);
+  schur_rhs_ = rhs.tail(size_ - own_offset_);
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
+    block.solution = block.lu.solve(block.local);
+    block.row_work.noalias() = block.rows * block.solution;
+    for (size_t r = 0; r < block.own_rows.size(); ++r) {
+      schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));
+    }
+  }
+  if (size_ > own_offset_) own_solution_ = schur_lu_.solve(schur_rhs_);
+  x->tail(size_ - own_offset_) = own_solution_;
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    if (!block.own_columns.empty()) {
+      for (size_t c = 0; c < block.own_columns.size(); ++c) {
+        block.column_work(static_cast<Eigen::Index>(c)) = own_solution_(block.own_columns[c]);
+      }
+      block.local.noalias() = block.eliminated * block.column_work;
+      block.solution -= block.local;
+    }
+    for (int i = 0; i < nb; ++i) (*x)(block.unknowns[static_cast<size_t>(i)]) = block.solution(i);
+  }
+}
+
+}  // namespace nfrc
