@@ -110,7 +110,8 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
         }
       }
     }
-    block.eliminated = block.lu.solve(coupling);
+    // Zero-sized products are skipped: Eigen's kernels would bind references to null data.
+    block.eliminated = nc > 0 ? Eigen::MatrixXd(block.lu.solve(coupling)) : coupling;
     const int nrows = static_cast<int>(block.own_rows.size());
     for (int r = 0; r < nrows; ++r)
       row_slot[static_cast<size_t>(block.own_rows[static_cast<size_t>(r)])] = r;
@@ -125,14 +126,16 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     }
     for (const int r : block.own_rows) row_slot[static_cast<size_t>(r)] = -1;
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
-    const Eigen::MatrixXd update = block.rows * block.eliminated;
-    schur(block.own_rows, block.own_columns) -= update;
+    if (nrows > 0 && nc > 0) {
+      const Eigen::MatrixXd update = block.rows * block.eliminated;
+      schur(block.own_rows, block.own_columns) -= update;
+    }
     block.local.resize(nb);
     block.solution.resize(nb);
     block.row_work.resize(nrows);
     block.column_work.resize(nc);
   }
-  schur_lu_.compute(schur);
+  if (nr > 0) schur_lu_.compute(schur);
   schur_rhs_.resize(nr);
   own_solution_.resize(nr);
   return nr == 0 || RegularForElimination(schur_lu_);
@@ -149,6 +152,7 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
     const int nb = static_cast<int>(block.unknowns.size());
     for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
     block.solution = block.lu.solve(block.local);
+    if (block.own_rows.empty()) continue;
     block.row_work.noalias() = block.rows * block.solution;
     for (size_t r = 0; r < block.own_rows.size(); ++r) {
       schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));

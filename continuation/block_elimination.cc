@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace nfrc {
 
@@ -50,32 +49,50 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   const int num_rest = static_cast<int>(rest.size());
   Eigen::MatrixXd schur = a(rest, rest);
   Eigen::VectorXd schur_rhs = b(rest);
-  std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> factors;
-  std::vector<Eigen::VectorXd> block_solutions;       // A_BB⁻¹ b_B
-  std::vector<std::vector<int>> coupled_columns;      // rest positions with A_B,rest ≠ 0
-  std::vector<Eigen::MatrixXd> block_times_coupling;  // A_BB⁻¹ A_B,coupled
-  factors.reserve(blocks.size());
-  for (const std::vector<int>& block : blocks) {
-    factors.emplace_back(Eigen::MatrixXd(a(block, block)));
-    if (!RegularForElimination(factors.back())) return false;
-    std::vector<int> columns, positions;
+  // Per block: the rest positions it couples to (A_B,rest ≠ 0) and A_BB⁻¹ [A_B,coupled  b_B].
+  // Small blocks (a harmonic's two coefficients) are many: the loops below avoid Eigen's
+  // per-call overhead and allocate only these two per block.
+  std::vector<std::vector<int>> coupled_columns(blocks.size());
+  std::vector<Eigen::MatrixXd> eliminated(blocks.size());
+  Eigen::MatrixXd block_matrix, right;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    const std::vector<int>& block = blocks[k];
+    const int nb = static_cast<int>(block.size());
+    block_matrix.resize(nb, nb);
+    for (int j = 0; j < nb; ++j) {
+      for (int i = 0; i < nb; ++i) block_matrix(i, j) = a(block[i], block[j]);
+    }
+    lu.compute(block_matrix);
+    if (!RegularForElimination(lu)) return false;
+    std::vector<int>& positions = coupled_columns[k];
     for (int j = 0; j < num_rest; ++j) {
-      bool nonzero = false;
-      for (const int i : block) nonzero = nonzero || a(i, rest[static_cast<size_t>(j)]) != 0.0;
-      if (nonzero) {
-        columns.push_back(rest[static_cast<size_t>(j)]);
-        positions.push_back(j);
+      const int column = rest[static_cast<size_t>(j)];
+      for (const int i : block) {
+        if (a(i, column) != 0.0) {
+          positions.push_back(j);
+          break;
+        }
       }
     }
-    Eigen::MatrixXd coupling = factors.back().solve(Eigen::MatrixXd(a(block, columns)));
-    Eigen::VectorXd solution = factors.back().solve(Eigen::VectorXd(b(block)));
-    // S −= A_rest,B A_BB⁻¹ A_B,rest and the right-hand side alike.
-    const Eigen::MatrixXd left = a(rest, block);
-    schur(Eigen::all, positions) -= left * coupling;
-    schur_rhs -= left * solution;
-    block_solutions.push_back(std::move(solution));
-    coupled_columns.push_back(std::move(positions));
-    block_times_coupling.push_back(std::move(coupling));
+    const int nc = static_cast<int>(positions.size());
+    right.resize(nb, nc + 1);
+    for (int c = 0; c < nc; ++c) {
+      for (int i = 0; i < nb; ++i)
+        right(i, c) = a(block[i], rest[static_cast<size_t>(positions[c])]);
+    }
+    for (int i = 0; i < nb; ++i) right(i, nc) = b(block[i]);
+    eliminated[k] = lu.solve(right);
+    // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike.
+    const Eigen::MatrixXd& e = eliminated[k];
+    for (int i = 0; i < nb; ++i) {
+      for (int r = 0; r < num_rest; ++r) {
+        const double left = a(rest[static_cast<size_t>(r)], block[i]);
+        if (left == 0.0) continue;
+        for (int c = 0; c < nc; ++c) schur(r, positions[c]) -= left * e(i, c);
+        schur_rhs(r) -= left * e(i, nc);
+      }
+    }
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
   if (!RegularForElimination(schur_lu)) return false;
@@ -84,8 +101,14 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   x->resize(size);
   (*x)(rest) = rest_solution;
   for (size_t k = 0; k < blocks.size(); ++k) {
-    (*x)(blocks[k]) =
-        block_solutions[k] - block_times_coupling[k] * rest_solution(coupled_columns[k]);
+    const Eigen::MatrixXd& e = eliminated[k];
+    const std::vector<int>& positions = coupled_columns[k];
+    const int nc = static_cast<int>(positions.size());
+    for (int i = 0; i < static_cast<int>(blocks[k].size()); ++i) {
+      double value = e(i, nc);
+      for (int c = 0; c < nc; ++c) value -= e(i, c) * rest_solution(positions[c]);
+      (*x)(blocks[k][i]) = value;
+    }
   }
   return x->allFinite();
 }
