@@ -29,6 +29,10 @@ struct Fold {
   double tangent_lambda = 0.0;  // λ component of the tangent at the reported point
   int iterations = 0;
   bool converged = false;  // accuracy reached within max_fold_iterations
+  // λ turns at a kink of the branch (a sampled nonsmooth law switched there), not smoothly:
+  // τ_λ kept half its value on each side on both ends of a bracket 64 times shorter than the
+  // step. Located to that bracket (lambda_accuracy), not to fold_tolerance.
+  bool corner = false;
 };
 
 enum class TerminationReason {

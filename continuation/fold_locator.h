@@ -28,7 +28,8 @@ struct FoldSearchResult {
 // falsi: a trial s is predicted along tangent_before, corrected on the same arclength
 // constraint and its tangent computed. Stops when the estimated λ error (see
 // Fold::lambda_accuracy) is at most tolerance·max(|λ|, 10⁻³·s_λ): relative to |λ|, and to
-// 10⁻³·s_λ for folds near λ = 0 where a relative test could never be met.
+// 10⁻³·s_λ for folds near λ = 0 where a relative test could never be met; or at a corner
+// (Fold::corner), where τ_λ jumps across zero instead of passing through it.
 FoldSearchResult LocateFold(Evaluator& evaluator, const Scaling& scaling,
                             const NewtonSettings& settings, const FoldBracket& bracket,
                             double tolerance, int max_iterations);

@@ -289,7 +289,8 @@ void BranchWriter::OnFold(const TraceFold& record) {
                                 {"omega_accuracy", omega_factor_ * fold.lambda_accuracy},
                                 {"tangent_omega", fold.tangent_lambda},
                                 {"iterations", fold.iterations},
-                                {"converged", fold.converged}});
+                                {"converged", fold.converged},
+                                {"corner", fold.corner}});
   WriteJson();
 }
 

@@ -111,6 +111,7 @@ void BindResults(py::module_& m) {
           "omega_accuracy",
           [](const FoldView& f) { return f.naming->omega_factor * f.record.fold.lambda_accuracy; })
       .def_property_readonly("converged", [](const FoldView& f) { return f.record.fold.converged; })
+      .def_property_readonly("corner", [](const FoldView& f) { return f.record.fold.corner; })
       .def_property_readonly("y", [](const FoldView& f) { return f.record.fold.y; })
       .def(
           "measure",

@@ -81,6 +81,7 @@ def test_duffing_folds(source_dir):
     assert [round(f.omega, 6) for f in branch.folds] == [1.269602, 1.1157]
     top = branch.folds[0]
     assert top.converged and top.omega_accuracy < 1e-6
+    assert not any(f.corner for f in branch.folds)  # a smooth law: smooth folds
     # The peak is close to the upper fold, not at it.
     assert top.measure("max_abs") == pytest.approx(branch.measure("max_abs").max(), rel=1e-2)
     with pytest.raises(nfrc.InputError, match="not recorded at folds"):

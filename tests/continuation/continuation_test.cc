@@ -54,6 +54,7 @@ TEST_CASE("cubic: passes both folds and lands exactly on the far bound") {
   CHECK(branch.folds[1].lambda == doctest::Approx(-2.0 / 3.0).epsilon(kFoldLambdaTolerance));
   for (const Fold& fold : branch.folds) {
     CHECK(fold.converged);
+    CHECK_FALSE(fold.corner);  // a smooth fold: τ_λ passes through zero
     CHECK(fold.lambda_accuracy <= options.fold_tolerance * std::abs(fold.lambda));
     // λ is quadratic in the arclength at a fold, y linear: y is known to about
     // sqrt(λ accuracy / curvature); 1e-4 is well above sqrt(1e-8).
@@ -414,6 +415,43 @@ TEST_CASE("kink over 90 degrees: passed by a natural-parameter step, orientation
     CHECK(std::abs(branch.points[i].y(0) - std::abs(branch.points[i].lambda - 0.5)) < 1e-9);
   }
   CHECK(branch.folds.empty());
+}
+
+// R = λ − 1 + |y|/2: λ rises with y to 1 at y = 0, where it turns at a corner (τ_λ jumps
+// from +1/√5 to −1/√5 without passing zero), as folds of sampled nonsmooth laws do.
+class CornerProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    (*residual)(0) = lambda - 1.0 + 0.5 * std::abs(y(0));
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = y(0) >= 0.0 ? 0.5 : -0.5;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = 1.0;
+    return true;
+  }
+};
+
+TEST_CASE("corner fold: located to its bracket, flagged, and the exact turn inside it") {
+  CornerProblem problem;
+  ContinuationOptions options;
+  options.lambda_start = 0.0;
+  options.lambda_end = 2.0;
+  options.initial_step = 0.05;
+  const Branch branch = Continue(problem, Eigen::VectorXd::Constant(1, -2.0), options);
+  CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
+  REQUIRE(branch.folds.size() == 1);
+  const Fold& fold = branch.folds[0];
+  MESSAGE("corner fold at " << fold.lambda << " +- " << fold.lambda_accuracy << " after "
+                            << fold.iterations << " iterations");
+  CHECK(fold.corner);
+  CHECK(fold.converged);
+  CHECK(std::abs(fold.lambda - 1.0) <= fold.lambda_accuracy);
+  // The bracket shrank 64-fold from a step of at most max_step: λ within a few 1e-3.
+  CHECK(fold.lambda_accuracy <= options.max_step / 64.0);
+  // Bisection from the step down to 1e-8 would take ~20 iterations; the corner stops at ~6.
+  CHECK(fold.iterations <= 10);
+  // The branch comes back down on the other side of the corner.
+  CHECK(branch.points.back().y(0) > 0.0);
 }
 
 }  // namespace
