@@ -250,6 +250,14 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
                              std::to_string(earlier->start_fold));
       continue;
     }
+    if (fold.corner) {
+      // R_y has no null vector there: ω turns where a sample of a law switches.
+      result.notes.push_back("fold " + std::to_string(i) +
+                             " at omega=" + std::to_string(fold.lambda) +
+                             " is a corner of the nonsmooth branch, where no fold curve starts "
+                             "(follow it by nfrc sweep)");
+      continue;
+    }
     if (options.progress != nullptr) {
       *options.progress << "nfrc: fold " << i << " at omega=" << fold.lambda << ": following "
                         << parameter.path() << " from " << result.from << " to " << options.to

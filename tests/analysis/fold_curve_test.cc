@@ -110,6 +110,22 @@ TEST_CASE("fold curve of Duffing with seven harmonics against fixed-P traces") {
                                << "fixed-P traces' folds " << worst);
 }
 
+TEST_CASE("fold curves do not start at the corners of a nonsmooth branch, and say so") {
+  // NLvib's unilateral spring as a sampled penalty law: every fold of its branch is a corner
+  // (a sample enters or leaves contact there), where R_y has no null vector to follow.
+  const Case the_case = DuffingCase("contact/nlvib.json#penalty");
+  const CaseParameter forcing("model.forcing[0].cos", the_case);
+  FoldCurveOptions options;
+  options.to = 0.09;
+  const FoldCurveResult result = TraceFoldCurves(the_case, forcing, options);
+  REQUIRE(result.branch_folds > 0);
+  CHECK(result.curves.empty());
+  const auto corners = std::count_if(result.notes.begin(), result.notes.end(), [](const auto& n) {
+    return n.find("is a corner of the nonsmooth branch") != std::string::npos;
+  });
+  CHECK(corners == result.branch_folds);
+}
+
 TEST_CASE("case parameters: paths name a numeric field, or the error names the parameter") {
   Case the_case = DuffingCase("duffing.json");
   const CaseParameter coefficient("nonlinearities[0].coefficient", the_case);
