@@ -33,7 +33,7 @@ void ProgressReporter::FoldFound(int number, const Fold& fold) const {
   line << "fold " << number << "  " << lambda_name_ << '=' << std::setprecision(kLambdaDigits)
        << fold.lambda << "  after point " << fold.after_point
        << "  accuracy=" << std::setprecision(kShortDigits) << fold.lambda_accuracy
-       << (fold.converged ? "" : "  (not converged)") << '\n';
+       << (fold.corner ? "  (corner)" : "") << (fold.converged ? "" : "  (not converged)") << '\n';
   *out_ << line.str() << std::flush;
 }
 

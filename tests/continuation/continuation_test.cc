@@ -437,9 +437,12 @@ TEST_CASE("corner fold: located to its bracket, flagged, and the exact turn insi
   options.lambda_start = 0.0;
   options.lambda_end = 2.0;
   options.initial_step = 0.05;
+  std::ostringstream progress;
+  options.progress = &progress;
   const Branch branch = Continue(problem, Eigen::VectorXd::Constant(1, -2.0), options);
   CHECK(branch.summary.reason == TerminationReason::kReachedLambdaBound);
   REQUIRE(branch.folds.size() == 1);
+  CHECK(progress.str().find("  (corner)\n") != std::string::npos);
   const Fold& fold = branch.folds[0];
   MESSAGE("corner fold at " << fold.lambda << " +- " << fold.lambda_accuracy << " after "
                             << fold.iterations << " iterations");
