@@ -71,8 +71,10 @@ TEST_CASE("stability: a jump across the unit circle stops its localisation at ju
     CAPTURE(b.omega);
     REQUIRE(b.after_point == r.after_point);
     REQUIRE(b.type == r.type);
-    early_iterations += b.iterations;
-    reference_iterations += r.iterations;
+    if (b.type != BifurcationType::kFold) {  // folds are the engine's, localised without Hill
+      early_iterations += b.iterations;
+      reference_iterations += r.iterations;
+    }
     const bool early_stop = b.converged && b.discontinuous &&
                             b.omega_accuracy > fast.stability.bifurcation_tolerance * b.omega;
     if (early_stop) {
@@ -90,8 +92,9 @@ TEST_CASE("stability: a jump across the unit circle stops its localisation at ju
       CHECK_FALSE(b.discontinuous);
     }
   }
-  MESSAGE(stopped << " jumps stopped early, " << smooth << " smooth crossings; localisation "
-                  << "iterations " << early_iterations << " against " << reference_iterations);
+  MESSAGE(stopped << " jumps stopped early, " << smooth << " smooth crossings; Hill "
+                  << "localisation iterations " << early_iterations << " against "
+                  << reference_iterations);
   CHECK(stopped >= 10);
   CHECK(smooth >= 1);
   CHECK(early_iterations < reference_iterations);
