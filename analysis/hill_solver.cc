@@ -69,8 +69,11 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
       for (Iterator it(matrix, j); it; ++it) {
         const int i = static_cast<int>(it.row());
         if (i < nd) {
-          block_matrices[k](position[static_cast<size_t>(i)], position[static_cast<size_t>(j)]) =
-              it.value();
+          // A stored zero may sit between two blocks: only this block's own entries count.
+          if (block_of[static_cast<size_t>(i)] == static_cast<int>(k)) {
+            block_matrices[k](position[static_cast<size_t>(i)], position[static_cast<size_t>(j)]) =
+                it.value();
+          }
         } else if (row_slot[static_cast<size_t>(i - nd)] < 0) {
           row_slot[static_cast<size_t>(i - nd)] = static_cast<int>(block.own_rows.size());
           block.own_rows.push_back(i - nd);

@@ -86,9 +86,18 @@ TEST_CASE("hill solver: a singular block falls back to the sparse LU") {
   REQUIRE(solver.ok());
   CHECK_FALSE(solver.eliminating());
   CHECK(Difference(matrix, solver) <= kSameSolution);
-  // The same structure with a regular block is eliminated, to the same solution.
+  // The same structure with a regular block is eliminated, to the same solution, also with
+  // zeros stored between the blocks (they must not join them or land in a block).
   dense(1, 1) = 5.0;
-  const Eigen::SparseMatrix<double> regular = dense.sparseView();
+  std::vector<Eigen::Triplet<double>> triplets = {{0, 2, 0.0}, {2, 1, 0.0}};
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      if (dense(i, j) != 0.0) triplets.emplace_back(i, j, dense(i, j));
+    }
+  }
+  Eigen::SparseMatrix<double> regular(4, 4);
+  regular.setFromTriplets(triplets.begin(), triplets.end());
+  REQUIRE(regular.nonZeros() == 12);  // ten entries and the two stored zeros
   const HillLinearSolver eliminating(regular, 3);
   CHECK(eliminating.eliminating());
   CHECK(Difference(regular, eliminating) <= kSameSolution);
