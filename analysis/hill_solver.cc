@@ -58,76 +58,77 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     if (static_cast<int>(block.unknowns.size()) > kMaxBlock) return false;
   }
 
-  // Which own unknowns each block couples to, in either direction.
-  std::vector<int> row_slot(static_cast<size_t>(nr), -1);
+  // One pass down the columns: each block's own matrix, its couplings with the own unknowns
+  // (kept as entries until the block knows which own rows and columns it touches) and the
+  // own unknowns' block, where the Schur complement starts.
+  struct Coupling {
+    int position;  // in the block
+    int own;       // own unknown, from own_offset
+    double value;
+  };
   std::vector<Eigen::MatrixXd> block_matrices(blocks_.size());
   for (size_t k = 0; k < blocks_.size(); ++k) {
-    Block& block = blocks_[k];
-    const int nb = static_cast<int>(block.unknowns.size());
+    const int nb = static_cast<int>(blocks_[k].unknowns.size());
     block_matrices[k] = Eigen::MatrixXd::Zero(nb, nb);
-    for (const int j : block.unknowns) {
-      for (Iterator it(matrix, j); it; ++it) {
-        const int i = static_cast<int>(it.row());
-        if (i < nd) {
-          // A stored zero may sit between two blocks: only this block's own entries count.
-          if (block_of[static_cast<size_t>(i)] == static_cast<int>(k)) {
-            block_matrices[k](position[static_cast<size_t>(i)], position[static_cast<size_t>(j)]) =
-                it.value();
-          }
-        } else if (row_slot[static_cast<size_t>(i - nd)] < 0) {
-          row_slot[static_cast<size_t>(i - nd)] = static_cast<int>(block.own_rows.size());
-          block.own_rows.push_back(i - nd);
-        }
-      }
-    }
-    for (const int r : block.own_rows) row_slot[static_cast<size_t>(r)] = -1;
   }
-  for (int j = nd; j < size_; ++j) {
+  std::vector<std::vector<Coupling>> to_own(blocks_.size()), from_own(blocks_.size());
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nr, nr);
+  for (int j = 0; j < size_; ++j) {
     for (Iterator it(matrix, j); it; ++it) {
       const int i = static_cast<int>(it.row());
-      if (i >= nd) continue;
-      std::vector<int>& columns =
-          blocks_[static_cast<size_t>(block_of[static_cast<size_t>(i)])].own_columns;
-      if (columns.empty() || columns.back() != j - nd) columns.push_back(j - nd);
+      if (j < nd) {
+        const int k = block_of[static_cast<size_t>(j)];
+        if (i >= nd) {
+          from_own[static_cast<size_t>(k)].push_back(
+              {position[static_cast<size_t>(j)], i - nd, it.value()});
+        } else if (block_of[static_cast<size_t>(i)] == k) {
+          // A stored zero may sit between two blocks: only this block's own entries count.
+          block_matrices[static_cast<size_t>(k)](position[static_cast<size_t>(i)],
+                                                 position[static_cast<size_t>(j)]) = it.value();
+        }
+      } else if (i < nd) {
+        to_own[static_cast<size_t>(block_of[static_cast<size_t>(i)])].push_back(
+            {position[static_cast<size_t>(i)], j - nd, it.value()});
+      } else {
+        schur(i - nd, j - nd) = it.value();
+      }
     }
   }
 
-  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nr, nr);
-  for (int j = nd; j < size_; ++j) {
-    for (Iterator it(matrix, j); it; ++it) {
-      if (it.row() >= nd) schur(it.row() - nd, j - nd) = it.value();
+  std::vector<int> slot(static_cast<size_t>(nr), -1);  // an own unknown's place in a block's list
+  // The distinct own unknowns of `entries` in order of appearance, into `owns`, with slot set.
+  const auto collect = [&](const std::vector<Coupling>& entries, std::vector<int>* owns) {
+    for (const Coupling& e : entries) {
+      if (slot[static_cast<size_t>(e.own)] < 0) {
+        slot[static_cast<size_t>(e.own)] = static_cast<int>(owns->size());
+        owns->push_back(e.own);
+      }
     }
-  }
+  };
+  const auto release = [&](const std::vector<int>& owns) {
+    for (const int own : owns) slot[static_cast<size_t>(own)] = -1;
+  };
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const int nb = static_cast<int>(block.unknowns.size());
     block.lu.compute(block_matrices[k]);
     if (!RegularForElimination(block.lu)) return false;
+    collect(to_own[k], &block.own_columns);
     const int nc = static_cast<int>(block.own_columns.size());
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nb, nc);
-    for (int c = 0; c < nc; ++c) {
-      for (Iterator it(matrix, nd + block.own_columns[static_cast<size_t>(c)]); it; ++it) {
-        const int i = static_cast<int>(it.row());
-        if (i < nd && block_of[static_cast<size_t>(i)] == static_cast<int>(k)) {
-          coupling(position[static_cast<size_t>(i)], c) = it.value();
-        }
-      }
+    for (const Coupling& e : to_own[k]) {
+      coupling(e.position, slot[static_cast<size_t>(e.own)]) = e.value;
     }
+    release(block.own_columns);
     // Zero-sized products are skipped: Eigen's kernels would bind references to null data.
     block.eliminated = nc > 0 ? Eigen::MatrixXd(block.lu.solve(coupling)) : coupling;
+    collect(from_own[k], &block.own_rows);
     const int nrows = static_cast<int>(block.own_rows.size());
-    for (int r = 0; r < nrows; ++r)
-      row_slot[static_cast<size_t>(block.own_rows[static_cast<size_t>(r)])] = r;
     block.rows = Eigen::MatrixXd::Zero(nrows, nb);
-    for (const int j : block.unknowns) {
-      for (Iterator it(matrix, j); it; ++it) {
-        if (it.row() >= nd) {
-          block.rows(row_slot[static_cast<size_t>(it.row() - nd)],
-                     position[static_cast<size_t>(j)]) = it.value();
-        }
-      }
+    for (const Coupling& e : from_own[k]) {
+      block.rows(slot[static_cast<size_t>(e.own)], e.position) = e.value;
     }
-    for (const int r : block.own_rows) row_slot[static_cast<size_t>(r)] = -1;
+    release(block.own_rows);
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
     if (nrows > 0 && nc > 0) {
       const Eigen::MatrixXd update = block.rows * block.eliminated;
