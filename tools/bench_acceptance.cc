@@ -72,6 +72,20 @@ void RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
   std::printf("  wall time %.1f ms = %.1f LU(320)", 1e3 * seconds, seconds / lu_unit);
   if (c.budget_lu > 0.0) std::printf("  (budget %.0f LU(320))", c.budget_lu);
   std::printf("\n");
+  // The localisations' work: folds by the engine, other crossings by Newton + Hill each.
+  int corners = 0, fold_iterations = 0, crossings = 0, jumps = 0, crossing_iterations = 0;
+  for (const TraceFold& f : trace.folds) {
+    corners += f.fold.corner ? 1 : 0;
+    fold_iterations += f.fold.iterations;
+  }
+  for (const Bifurcation& b : trace.bifurcations) {
+    if (b.type == BifurcationType::kFold) continue;
+    ++crossings;
+    jumps += b.discontinuous ? 1 : 0;
+    crossing_iterations += b.iterations;
+  }
+  std::printf("  folds %zu (%d corners) in %d iterations; other crossings %d (%d jumps) in %d\n",
+              trace.folds.size(), corners, fold_iterations, crossings, jumps, crossing_iterations);
   if (accuracy) {
     std::printf("  accuracy %.2e against a tenth of the step\n",
                 Accuracy(the_case, trace, c.plotted));

@@ -51,10 +51,13 @@ void BenchBlade(int repeats, double lu_unit) {
         return step.note.find("natural-parameter") != std::string::npos;
       }));
   const double t = Median(times);
+  const int corners = static_cast<int>(std::count_if(branch.folds.begin(), branch.folds.end(),
+                                                     [](const Fold& f) { return f.corner; }));
   std::printf(
-      "  NFRC               %.0f ms = %.0f LU(320) (median of %d): %s, %d points, %d folds,"
-      " %d natural-parameter steps\n",
-      1e3 * t, t / lu_unit, repeats, ToString(s.reason), s.num_points, s.num_folds, fallbacks);
+      "  NFRC               %.0f ms = %.0f LU(320) (median of %d): %s, %d points, %d folds"
+      " (%d corners), %d natural-parameter steps\n",
+      1e3 * t, t / lu_unit, repeats, ToString(s.reason), s.num_points, s.num_folds, corners,
+      fallbacks);
   std::printf("  per step           %.2f ms = %.2f LU(320); Newton/point %.2f\n",
               1e3 * t / std::max(1, s.num_points - 1), t / std::max(1, s.num_points - 1) / lu_unit,
               static_cast<double>(s.total_newton_iterations) / s.num_points);
