@@ -124,7 +124,10 @@ ProblemDimensions DimensionsOf(const Case& c) {
         retained.push_back(dof);
       }
     }
-    if (std::holds_alternative<CoulombFrictionSpec>(law)) d.own_blocks += 1;
+    if (std::holds_alternative<CoulombFrictionSpec>(law) ||
+        std::holds_alternative<EqualityContactSpec>(law)) {
+      d.own_blocks += 1;
+    }
     if (std::holds_alternative<LcpContactSpec>(law)) d.sample_blocks += 1;
   }
   d.num_retained = std::max<double>(1.0, static_cast<double>(retained.size()));

@@ -37,11 +37,23 @@ const double* LawField(const LawSpec& spec, const std::string& field) {
           if (field == "rho") return &law.rho;
           if (field == "alpha") return &law.alpha;
           if (field == "delta") return &law.delta;
+        } else if constexpr (std::is_same_v<Spec, JenkinsSpec>) {
+          if (field == "mu") return &law.mu;
+          if (field == "normal_load") return &law.normal_load;
+          if (field == "stiffness") return &law.stiffness;
         } else if constexpr (std::is_same_v<Spec, PenaltyContactSpec>) {
           if (field == "stiffness") return &law.stiffness;
           return GeometryField(law.geometry, field);
         } else if constexpr (std::is_same_v<Spec, DlftContactSpec>) {
           return LagrangianField(law.contact, field);
+        } else if constexpr (std::is_same_v<Spec, DlftFrictionSpec>) {
+          if (field == "mu") return &law.mu;
+          if (field == "normal_load") return &law.normal_load;
+          if (field == "epsilon") return &law.epsilon;
+        } else if constexpr (std::is_same_v<Spec, EqualityContactSpec>) {
+          if (field == "obstacle_stiffness") return &law.obstacle_stiffness;
+          if (field == "rho") return &law.rho;
+          return GeometryField(law.geometry, field);
         } else if constexpr (std::is_same_v<Spec, LcpContactSpec>) {
           if (field == "smoothing") return &law.smoothing;
           return LagrangianField(law.contact, field);

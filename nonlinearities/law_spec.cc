@@ -96,6 +96,17 @@ void CoulombFrictionSpec::Validate(const LinearModel& model) const {
   }
 }
 
+void JenkinsSpec::Validate(const LinearModel& model) const {
+  CheckDofs(dof, other, model);
+  if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
+  if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
+    Fail("normal_load", "must be non-negative");
+  }
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
+    Fail("stiffness", "must be finite and > 0 (N/m)");
+  }
+}
+
 void PenaltyContactSpec::Validate(const LinearModel& model) const {
   CheckGeometry(geometry, model);
   if (!(stiffness > 0.0) || !std::isfinite(stiffness))
@@ -111,6 +122,41 @@ void LcpContactSpec::Validate(const LinearModel& model) const {
   }
 }
 
+void EqualityContactSpec::Validate(const LinearModel& model) const {
+  CheckGeometry(geometry, model);
+  if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
+    Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+  }
+  if (obstacle_stiffness > 0.0 && geometry.other >= 0) {
+    Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
+  }
+  if (!(rho >= 0.0) || !std::isfinite(rho)) {
+    Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
+  }
+}
+
+void DlftFrictionSpec::Validate(const LinearModel& model) const {
+  CheckDofs(dof, other, model);
+  if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
+  if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
+    Fail("normal_load", "must be non-negative");
+  }
+  if (!(epsilon >= 0.0) || !std::isfinite(epsilon)) {
+    Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
+  }
+  if (epsilon == 0.0 && !(EpsilonFor(model) > 0.0)) {
+    Fail("epsilon", "no default: the model's stiffness at the DOF is not positive; give epsilon");
+  }
+}
+
+double DlftFrictionSpec::EpsilonFor(const LinearModel& model) const {
+  if (epsilon > 0.0) return epsilon;
+  const Eigen::SparseMatrix<double>& k = model.stiffness;
+  double sum = k.coeff(dof, dof);
+  if (other >= 0) sum = 0.5 * (sum + k.coeff(other, other));
+  return sum;
+}
+
 std::string_view LawType(const LawSpec& spec) {
   return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kType; }, spec);
 }
@@ -119,6 +165,7 @@ const ContactGeometry* LawContactGeometry(const LawSpec& spec) {
   if (const auto* s = std::get_if<PenaltyContactSpec>(&spec)) return &s->geometry;
   if (const auto* s = std::get_if<DlftContactSpec>(&spec)) return &s->contact.geometry;
   if (const auto* s = std::get_if<LcpContactSpec>(&spec)) return &s->contact.geometry;
+  if (const auto* s = std::get_if<EqualityContactSpec>(&spec)) return &s->geometry;
   return nullptr;
 }
 
@@ -130,9 +177,10 @@ std::vector<int> LawDofs(const LawSpec& spec) {
         if constexpr (requires { s.dof; }) {
           return s.other < 0 ? std::vector<int>{s.dof} : std::vector<int>{s.dof, s.other};
         } else {
-          static_assert(std::is_same_v<T, PenaltyContactSpec> ||
-                            std::is_same_v<T, DlftContactSpec> || std::is_same_v<T, LcpContactSpec>,
-                        "a law without dof/other must be a contact law");
+          static_assert(
+              std::is_same_v<T, PenaltyContactSpec> || std::is_same_v<T, DlftContactSpec> ||
+                  std::is_same_v<T, LcpContactSpec> || std::is_same_v<T, EqualityContactSpec>,
+              "a law without dof/other must be a contact law");
           return {};
         }
       },
@@ -165,7 +213,15 @@ void ValidateLaw(const LawSpec& spec, const LinearModel& model) {
 
 std::unique_ptr<Nonlinearity> MakeHarmonicLaw(const LawSpec& spec, const LinearModel& model) {
   ValidateLaw(spec, model);
-  return std::visit([](const auto& s) { return s.MakeHarmonic(); }, spec);
+  return std::visit(
+      [&](const auto& s) {
+        if constexpr (requires { s.MakeHarmonic(model); }) {
+          return s.MakeHarmonic(model);
+        } else {
+          return s.MakeHarmonic();
+        }
+      },
+      spec);
 }
 
 }  // namespace nfrc

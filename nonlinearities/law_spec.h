@@ -58,6 +58,19 @@ struct CoulombFrictionSpec {
   std::unique_ptr<Nonlinearity> MakeHarmonic() const;
 };
 
+// Jenkins element: a spring k_t in series with a Coulomb slider μN (elastic dry friction).
+struct JenkinsSpec {
+  static constexpr std::string_view kType = "jenkins";
+  int dof = -1;
+  int other = -1;
+  double mu = 0.0;           // friction coefficient
+  double normal_load = 0.0;  // N
+  double stiffness = 0.0;    // k_t, N/m
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
 // k·max(0, −g): a flexible obstacle of stiffness k.
 struct PenaltyContactSpec {
   static constexpr std::string_view kType = "penalty_contact";
@@ -87,11 +100,40 @@ struct LcpContactSpec {
   std::unique_ptr<Nonlinearity> MakeHarmonic() const;
 };
 
+// Coulomb friction by DLFT (Nacivet et al. 2003): displacement unknowns, the force predicted
+// from the linear equations and corrected for stick/slip sample by sample with weight ε.
+struct DlftFrictionSpec {
+  static constexpr std::string_view kType = "dlft_friction";
+  int dof = -1;
+  int other = -1;
+  double mu = 0.0;           // friction coefficient
+  double normal_load = 0.0;  // N
+  double epsilon = 0.0;      // N/m, 0 = default: the model's diagonal stiffness at the DOF(s)
+  void Validate(const LinearModel& model) const;
+  // ε in use (N/m) for a model: `epsilon`, or the mean of K's diagonal over the law's DOFs.
+  double EpsilonFor(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law); its default ε needs the model.
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
+};
+
+// Unilateral contact by the equality-based weighted-residual formulation (Signorini as
+// min(λ, ρg) = 0 projected on the harmonics).
+struct EqualityContactSpec {
+  static constexpr std::string_view kType = "equality_contact";
+  ContactGeometry geometry;
+  double obstacle_stiffness = 0.0;  // N/m, 0 = rigid
+  double rho = 0.0;                 // N/m, 0 = default (obstacle stiffness, else static stiffness)
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+};
+
 // The law registry: one alternative per law. Adding a law adds its spec here; its harmonic
-// law (MakeHarmonicLaw below) and its time-domain law (validation/time_law_factory.h) are
-// then required by the compiler, and the reader finds it by kType.
+// law (MakeHarmonicLaw below) and its time-domain law (AddTimeLaw in validation/transient_model.cc)
+// are then required by the compiler, and the reader finds it by kType.
 using LawSpec = std::variant<CubicSpringSpec, PolynomialSpringSpec, CoulombFrictionSpec,
-                             PenaltyContactSpec, DlftContactSpec, LcpContactSpec>;
+                             JenkinsSpec, PenaltyContactSpec, DlftContactSpec, LcpContactSpec,
+                             EqualityContactSpec, DlftFrictionSpec>;
 
 // The case-file "type" of a spec (for messages and outputs).
 std::string_view LawType(const LawSpec& spec);

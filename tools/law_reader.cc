@@ -63,6 +63,36 @@ void ReadFields(InputFields& fields, const LinearModel& model, CoulombFrictionSp
   spec->delta = positive("delta", linear, 0.0);
 }
 
+void ReadFields(InputFields& fields, const LinearModel& model, JenkinsSpec* spec) {
+  spec->dof = fields.RequiredDof("dof", model);
+  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
+  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
+  spec->mu = fields.RequiredNumber("mu");
+  spec->normal_load = fields.RequiredNumber("normal_load");
+  spec->stiffness = fields.RequiredNumber("stiffness");
+  if (spec->mu < 0.0) fields.Fail("mu", "must be non-negative");
+  if (spec->normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+  if (!(spec->stiffness > 0.0) || !std::isfinite(spec->stiffness)) {
+    fields.Fail("stiffness", "must be finite and > 0 (N/m)");
+  }
+}
+
+void ReadFields(InputFields& fields, const LinearModel& model, DlftFrictionSpec* spec) {
+  spec->dof = fields.RequiredDof("dof", model);
+  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
+  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
+  spec->mu = fields.RequiredNumber("mu");
+  spec->normal_load = fields.RequiredNumber("normal_load");
+  if (spec->mu < 0.0) fields.Fail("mu", "must be non-negative");
+  if (spec->normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+  if (fields.Has("epsilon")) {
+    spec->epsilon = fields.RequiredNumber("epsilon");
+    if (!(spec->epsilon > 0.0) || !std::isfinite(spec->epsilon)) {
+      fields.Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
+    }
+  }
+}
+
 // "dof", "other", "direction" and "gap" (a number, or
 // {"constant": g, "harmonics": [{"harmonic": k, "cos": a, "sin": b}]}).
 ContactGeometry ReadGeometry(InputFields& fields, const LinearModel& model) {
@@ -104,20 +134,24 @@ ContactGeometry ReadGeometry(InputFields& fields, const LinearModel& model) {
   return geometry;
 }
 
+// "obstacle_stiffness" (N/m, absent: rigid, 0) of a contact with `geometry`.
+double ReadObstacleStiffness(InputFields& fields, const ContactGeometry& geometry) {
+  if (!fields.Has("obstacle_stiffness")) return 0.0;
+  const double stiffness = fields.RequiredNumber("obstacle_stiffness");
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
+    fields.Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+  }
+  if (geometry.other >= 0) {
+    fields.Fail("obstacle_stiffness",
+                "not allowed with other: the second body is then part of the model");
+  }
+  return stiffness;
+}
+
 LagrangianContactSpec ReadLagrangian(InputFields& fields, const LinearModel& model) {
   LagrangianContactSpec spec;
   spec.geometry = ReadGeometry(fields, model);
-  if (fields.Has("obstacle_stiffness")) {
-    spec.obstacle_stiffness = fields.RequiredNumber("obstacle_stiffness");
-    if (!(spec.obstacle_stiffness > 0.0) || !std::isfinite(spec.obstacle_stiffness)) {
-      fields.Fail("obstacle_stiffness",
-                  "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
-    }
-    if (spec.geometry.other >= 0) {
-      fields.Fail("obstacle_stiffness",
-                  "not allowed with other: the second body is then part of the model");
-    }
-  }
+  spec.obstacle_stiffness = ReadObstacleStiffness(fields, spec.geometry);
   if (fields.Has("epsilon")) {
     spec.epsilon = fields.RequiredNumber("epsilon");
     if (!(spec.epsilon > 0.0) || !std::isfinite(spec.epsilon)) {
@@ -144,6 +178,17 @@ void ReadFields(InputFields& fields, const LinearModel& model, LcpContactSpec* s
   spec->smoothing = fields.OptionalNumber("smoothing", 0.0);
   if (!(spec->smoothing >= 0.0) || !std::isfinite(spec->smoothing)) {
     fields.Fail("smoothing", "must be finite and >= 0 (m; 0 = exact complementarity)");
+  }
+}
+
+void ReadFields(InputFields& fields, const LinearModel& model, EqualityContactSpec* spec) {
+  spec->geometry = ReadGeometry(fields, model);
+  spec->obstacle_stiffness = ReadObstacleStiffness(fields, spec->geometry);
+  if (fields.Has("rho")) {
+    spec->rho = fields.RequiredNumber("rho");
+    if (!(spec->rho > 0.0) || !std::isfinite(spec->rho)) {
+      fields.Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
+    }
   }
 }
 

@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "validation/contact_time_law.h"
 #include "validation/friction_time_law.h"
+#include "validation/jenkins_time_law.h"
 #include "validation/spring_time_law.h"
 
 namespace nfrc {
@@ -84,6 +85,36 @@ void AddTimeLaw(const DlftContactSpec& spec, const std::string& path, TransientM
 
 void AddTimeLaw(const LcpContactSpec& spec, const std::string& path, TransientModel* out) {
   AddLagrangianContact(spec.kType, spec.contact, path, out);
+}
+
+// Signorini's law is exact in the time domain whatever its HBM formulation.
+void AddTimeLaw(const EqualityContactSpec& spec, const std::string& path, TransientModel* out) {
+  AddLagrangianContact(
+      spec.kType, LagrangianContactSpec{spec.geometry, spec.obstacle_stiffness, 0.0}, path, out);
+}
+
+// DLFT friction is Coulomb's law in the time domain: the exact friction law (min_max).
+void AddTimeLaw(const DlftFrictionSpec& spec, const std::string& path, TransientModel* out) {
+  CoulombFrictionSpec coulomb;
+  coulomb.dof = spec.dof;
+  coulomb.other = spec.other;
+  coulomb.mu = spec.mu;
+  coulomb.normal_load = spec.normal_load;
+  AddTimeLaw(coulomb, path, out);
+}
+
+// A hysteretic law: the slider's force is a differential own unknown (JenkinsTimeLaw).
+void AddTimeLaw(const JenkinsSpec& spec, const std::string& path, TransientModel* out) {
+  try {
+    auto law = std::make_unique<JenkinsTimeLaw>(spec.dof, spec.other, spec.stiffness,
+                                                spec.mu * spec.normal_load);
+    // A massless DOF's v is algebraic: the relative velocity is read from ẋ.
+    law->set_massless(out->massless[spec.dof] || (spec.other >= 0 && out->massless[spec.other]));
+    out->laws.push_back(std::move(law));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path + "." + e.what());
+  }
+  out->law_paths.push_back(path);
 }
 
 // A DOF is massless when its whole row and column of M vanish; a zero diagonal with coupling

@@ -15,18 +15,21 @@ import os
 
 from . import _nfrc
 from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, DlftContact,
-                    Floquet, Fold, Forcing, HarmonicSet, InputError, LcpContact,
+                    DlftFriction, EqualityContact,
+                    Floquet, Fold, Forcing, HarmonicSet, InputError, Jenkins, LcpContact,
                     PenaltyContact, PolynomialSpring, Solution, Summary, __version__)
 
 __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
-           "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted",
+           "DlftFriction", "EqualityContact",
+           "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted", "Jenkins",
            "LcpContact", "PenaltyContact",
            "PolynomialSpring", "Solution", "Summary", "fold_curve", "load_case", "manifest_members", "neimark_sacker_curve", "peak_curve", "solve_at",
            "sweep", "switch_branch",
            "trace",
            "__version__"]
 
-LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, PenaltyContact, DlftContact, LcpContact)
+LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, Jenkins, PenaltyContact, DlftContact,
+        LcpContact, EqualityContact, DlftFriction)
 
 for _cls in LAWS + (Bifurcation, Branch, Case, Floquet, Fold, Forcing, HarmonicSet, InputError,
                     Solution, Summary):

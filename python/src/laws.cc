@@ -164,6 +164,35 @@ void BindLaws(py::module_& m) {
       .def_readwrite("alpha", &CoulombFrictionSpec::alpha)
       .def_readwrite("delta", &CoulombFrictionSpec::delta);
 
+  LawClass<JenkinsSpec>(m, "Jenkins",
+                        py::make_tuple("dof", "mu", "normal_load", "stiffness", "other"))
+      .def(py::init([](int dof, double mu, double normal_load, double stiffness, int other) {
+             return JenkinsSpec{dof, other, mu, normal_load, stiffness};
+           }),
+           "dof"_a, "mu"_a, "normal_load"_a, "stiffness"_a, "other"_a = -1)
+      .def_readwrite("dof", &JenkinsSpec::dof)
+      .def_readwrite("other", &JenkinsSpec::other)
+      .def_readwrite("mu", &JenkinsSpec::mu)
+      .def_readwrite("normal_load", &JenkinsSpec::normal_load)
+      .def_readwrite("stiffness", &JenkinsSpec::stiffness);
+
+  LawClass<DlftFrictionSpec>(m, "DlftFriction",
+                             py::make_tuple("dof", "mu", "normal_load", "epsilon", "other"))
+      .def(py::init([](int dof, double mu, double normal_load, std::optional<double> epsilon,
+                       int other) {
+             return DlftFrictionSpec{dof, other, mu, normal_load, FromOptional(epsilon, "epsilon")};
+           }),
+           "dof"_a, "mu"_a, "normal_load"_a, "epsilon"_a = py::none(), "other"_a = -1)
+      .def_readwrite("dof", &DlftFrictionSpec::dof)
+      .def_readwrite("other", &DlftFrictionSpec::other)
+      .def_readwrite("mu", &DlftFrictionSpec::mu)
+      .def_readwrite("normal_load", &DlftFrictionSpec::normal_load)
+      .def_property(
+          "epsilon", [](const DlftFrictionSpec& s) { return OrNone(s.epsilon); },
+          [](DlftFrictionSpec& s, std::optional<double> v) {
+            s.epsilon = FromOptional(v, "epsilon");
+          });
+
   auto penalty = LawClass<PenaltyContactSpec>(
       m, "PenaltyContact",
       py::make_tuple("dof", "gap", "stiffness", "other", "direction", "gap_harmonics"));
@@ -209,6 +238,32 @@ void BindLaws(py::module_& m) {
           "gap_harmonics"_a = std::vector<GapTerm>{})
       .def_readwrite("smoothing", &LcpContactSpec::smoothing);
   LagrangianFields(lcp);
+
+  auto equality =
+      LawClass<EqualityContactSpec>(m, "EqualityContact",
+                                    py::make_tuple("dof", "gap", "obstacle_stiffness", "rho",
+                                                   "other", "direction", "gap_harmonics"));
+  equality
+      .def(py::init([](int dof, double gap, std::optional<double> obstacle_stiffness,
+                       std::optional<double> rho, int other, double direction,
+                       const std::vector<GapTerm>& gap_harmonics) {
+             return EqualityContactSpec{Geometry(dof, gap, other, direction, gap_harmonics),
+                                        FromOptional(obstacle_stiffness, "obstacle_stiffness"),
+                                        FromOptional(rho, "rho")};
+           }),
+           "dof"_a, "gap"_a, "obstacle_stiffness"_a = py::none(), "rho"_a = py::none(),
+           "other"_a = -1, "direction"_a = 1.0, "gap_harmonics"_a = std::vector<GapTerm>{})
+      .def_property(
+          "obstacle_stiffness",
+          [](const EqualityContactSpec& s) { return OrNone(s.obstacle_stiffness); },
+          [](EqualityContactSpec& s, std::optional<double> v) {
+            s.obstacle_stiffness = FromOptional(v, "obstacle_stiffness");
+          })
+      .def_property(
+          "rho", [](const EqualityContactSpec& s) { return OrNone(s.rho); },
+          [](EqualityContactSpec& s, std::optional<double> v) { s.rho = FromOptional(v, "rho"); });
+  GeometryFields(
+      equality, [](auto& s) -> auto& { return s.geometry; });
 }
 
 }  // namespace nfrc::python

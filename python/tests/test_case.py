@@ -153,6 +153,9 @@ def test_every_law_class_round_trips():
                             gap_harmonics=[(1, 0.1, 0.0)]),
         nfrc.DlftContact(0, gap=2e-4, obstacle_stiffness=1e9),
         nfrc.LcpContact(0, gap=2e-4, epsilon=1e9, smoothing=1e-9),
+        nfrc.Jenkins(1, 0.9, 10.0, stiffness=100.0, other=0),
+        nfrc.DlftFriction(1, 0.9, 10.0, epsilon=10.0),
+        nfrc.EqualityContact(0, gap=2e-4, obstacle_stiffness=1e10, rho=1e9),
     ]
     for law in laws:
         assert eval(repr(law), vars(nfrc)) == law
@@ -190,3 +193,17 @@ def test_copies_are_independent(friction_case):
     other.title = "copy"
     other.continuation.omega_end = 0.5
     assert friction_case.title != "copy" and friction_case.continuation.omega_end == 0.8
+
+
+def test_new_laws_are_validated_against_the_model_naming_the_field(source_dir):
+    case = nfrc.load_case(source_dir / "cases/friction/frc_n10.json")
+    case.laws = [nfrc.Jenkins(1, 0.9, 10.0, stiffness=100.0)]
+    assert case.laws[0].stiffness == 100.0
+    with pytest.raises(nfrc.InputError, match=r"nonlinearities\[0\]\.stiffness"):
+        case.laws = [nfrc.Jenkins(1, 0.9, 10.0, stiffness=-1.0)]
+    case.laws = [nfrc.DlftFriction(1, 0.9, 10.0)]
+    assert case.laws[0].epsilon is None
+    with pytest.raises(nfrc.InputError, match=r"^epsilon"):
+        nfrc.DlftFriction(1, 0.9, 10.0, epsilon=-1.0)
+    with pytest.raises(nfrc.InputError, match=r"^rho"):
+        nfrc.EqualityContact(0, gap=2e-4, rho=0.0)

@@ -227,6 +227,26 @@ case_error("contact_gap_harmonic_outside_set", ROD,
 case_error("contact_obstacle_stiffness_zero", ROD,
            setitem(["nonlinearities", 0, "obstacle_stiffness"], 0),
            "nonlinearities[0].obstacle_stiffness")
+JENKINS = copy.deepcopy(FRICTION)
+JENKINS["nonlinearities"] = [{"type": "jenkins", "dof": 1, "mu": 0.9, "normal_load": 10,
+                              "stiffness": 100}]
+case_error("jenkins_stiffness_zero", JENKINS, setitem(["nonlinearities", 0, "stiffness"], 0),
+           "nonlinearities[0].stiffness")
+case_error("jenkins_normal_load_negative", JENKINS,
+           setitem(["nonlinearities", 0, "normal_load"], -1), "nonlinearities[0].normal_load")
+DLFT_FRICTION = copy.deepcopy(FRICTION)
+DLFT_FRICTION["nonlinearities"] = [{"type": "dlft_friction", "dof": 1, "mu": 0.9,
+                                    "normal_load": 10}]
+case_error("dlft_friction_epsilon_negative", DLFT_FRICTION,
+           setitem(["nonlinearities", 0, "epsilon"], -1), "nonlinearities[0].epsilon")
+case_error("dlft_friction_law_key", DLFT_FRICTION, setitem(["nonlinearities", 0, "law"], "tanh"),
+           "nonlinearities[0].law")
+EQUALITY = copy.deepcopy(ROD)
+EQUALITY["nonlinearities"] = [{"type": "equality_contact", "dof": "end", "gap": 2e-4}]
+case_error("equality_contact_rho_zero", EQUALITY, setitem(["nonlinearities", 0, "rho"], 0),
+           "nonlinearities[0].rho")
+case_error("equality_contact_epsilon_key", EQUALITY,
+           setitem(["nonlinearities", 0, "epsilon"], 1e9), "nonlinearities[0].epsilon")
 case_error("validation_omega_negative", DUFFING, setitem(["validation"], {"omega": [-1]}),
            "validation.omega")
 case_error("validation_unknown_key", DUFFING, setitem(["validation"], {"omegas": [1]}),

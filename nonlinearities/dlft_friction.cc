@@ -1,0 +1,194 @@
+#include "nonlinearities/dlft_friction.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "nonlinearities/law_spec.h"
+
+namespace nfrc {
+namespace {
+
+const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega) {
+  if (ctx.condensation == nullptr) {
+    throw std::logic_error("dlft_friction: the context has no condensation");
+  }
+  if (ctx.condensation->omega() != omega) {
+    throw std::logic_error("dlft_friction: the condensation is not at the evaluated omega");
+  }
+  return *ctx.condensation;
+}
+
+// The rows A, b of L = A x − b whose negative predicts λ: the DOF's condensed equations, or
+// half the difference of the pair's (λ̃ = −(L_a − L_b)/2 at any solution).
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> PredictionRows(const NonlinearityContext& ctx,
+                                                           double omega, bool pair,
+                                                           bool derivative) {
+  const Condensation& condensation = CondensationAt(ctx, omega);
+  const int a = ctx.local_dofs[0];
+  Eigen::MatrixXd rows = condensation.RealOperatorRows(a, derivative);
+  Eigen::VectorXd forcing = condensation.RealForcingRows(a, derivative);
+  if (pair) {
+    const int b = ctx.local_dofs[1];
+    rows = 0.5 * (rows - condensation.RealOperatorRows(b, derivative));
+    forcing = 0.5 * (forcing - condensation.RealForcingRows(b, derivative));
+  }
+  return {rows, forcing};
+}
+
+}  // namespace
+
+DlftFriction::DlftFriction(int dof, int other, double limit, double epsilon)
+    : dof_(dof), other_(other), limit_(limit), epsilon_(epsilon) {
+  if (!(limit_ >= 0.0) || !std::isfinite(limit_)) {
+    throw std::invalid_argument("mu*normal_load: must be finite and >= 0");
+  }
+  if (!(epsilon_ > 0.0) || !std::isfinite(epsilon_)) {
+    throw std::invalid_argument("epsilon: must be finite and > 0 (N/m)");
+  }
+  if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
+}
+
+std::unique_ptr<Nonlinearity> DlftFrictionSpec::MakeHarmonic(const LinearModel& model) const {
+  return std::make_unique<DlftFriction>(dof, other, mu * normal_load, EpsilonFor(model));
+}
+
+std::vector<int> DlftFriction::Dofs() const {
+  if (other_ < 0) return {dof_};
+  return {dof_, other_};
+}
+
+DlftFriction::Prediction DlftFriction::Predict(const NonlinearityContext& ctx,
+                                               const Eigen::VectorXd& y, double omega) const {
+  const int nc = ctx.num_coefficients();
+  Prediction p;
+  std::tie(p.rows, p.forcing) = PredictionRows(ctx, omega, other_ >= 0, false);
+  const auto x = y.head(p.rows.cols());
+  Eigen::VectorXd z = y.segment(ctx.DofOffset(0), nc);
+  if (other_ >= 0) z -= y.segment(ctx.DofOffset(1), nc);
+  z -= (p.rows * x - p.forcing) / epsilon_;
+  p.input = ctx.fourier->ToTime(z).col(0);
+  p.history = ReturnMapping(p.input, epsilon_, limit_);
+  return p;
+}
+
+Eigen::VectorXd DlftFriction::Input(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                    double omega) const {
+  return Predict(ctx, y, omega).input;
+}
+
+void DlftFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                            Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
+                            Eigen::VectorXd* d_omega) const {
+  const FourierTransform& fourier = *ctx.fourier;
+  const int nc = ctx.num_coefficients();
+  const int row_dof = ctx.DofOffset(0);
+  const int row_other = other_ >= 0 ? ctx.DofOffset(1) : -1;
+  const Prediction p = Predict(ctx, y, omega);
+  const Eigen::VectorXd force = fourier.ToCoefficients(p.history.force);
+  residual.segment(row_dof, nc) += force;
+  if (row_other >= 0) residual.segment(row_other, nc) -= force;
+  if (jacobian == nullptr && d_omega == nullptr) return;
+
+  // λ̃ = P λ(z), z̃ = (S_a − S_b)x − (A x − b)/ε: ∂λ̃/∂z̃ = J (the return mapping's).
+  const Eigen::MatrixXd dz = ReturnMappingJacobian(fourier, p.history, epsilon_);
+  const int nx = static_cast<int>(p.rows.cols());
+  if (jacobian != nullptr) {
+    Eigen::MatrixXd dforce = -(dz * p.rows) / epsilon_;
+    dforce.middleCols(row_dof, nc) += dz;
+    if (row_other >= 0) dforce.middleCols(row_other, nc) -= dz;
+    jacobian->block(row_dof, 0, nc, nx) += dforce;
+    if (row_other >= 0) jacobian->block(row_other, 0, nc, nx) -= dforce;
+  }
+  if (d_omega != nullptr) {
+    const auto [d_rows, d_forcing] = PredictionRows(ctx, omega, other_ >= 0, true);
+    const Eigen::VectorXd dforce = -(dz * (d_rows * y.head(nx) - d_forcing)) / epsilon_;
+    d_omega->segment(row_dof, nc) += dforce;
+    if (row_other >= 0) d_omega->segment(row_other, nc) -= dforce;
+  }
+}
+
+void DlftFriction::LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                         double omega, Eigen::MatrixXd* jacobian,
+                                         Eigen::MatrixXd* /*velocity_jacobian*/) const {
+  if (jacobian == nullptr) return;
+  const Eigen::MatrixXd block =
+      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_);
+  const int nc = ctx.num_coefficients();
+  const int row_a = ctx.DofOffset(0);
+  jacobian->block(row_a, row_a, nc, nc) += block;
+  if (other_ >= 0) {
+    const int row_b = ctx.DofOffset(1);
+    jacobian->block(row_a, row_b, nc, nc) -= block;
+    jacobian->block(row_b, row_a, nc, nc) -= block;
+    jacobian->block(row_b, row_b, nc, nc) += block;
+  }
+}
+
+std::optional<LinearResidualDependence> DlftFriction::LinearResidualPart(
+    const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
+  LinearResidualDependence dependence;
+  dependence.weights =
+      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_) / epsilon_;
+  if (other_ >= 0) {
+    dependence.terms = {{0, -0.5}, {1, 0.5}};
+    dependence.rows = {{0, 1.0}, {1, -1.0}};
+  } else {
+    dependence.terms = {{0, -1.0}};
+    dependence.rows = {{0, 1.0}};
+  }
+  return dependence;
+}
+
+std::vector<LawSignal> DlftFriction::Signals(const NonlinearityContext& ctx,
+                                             const Eigen::VectorXd& y, double omega,
+                                             const FourierTransform& fine) const {
+  const int nc = ctx.num_coefficients();
+  const Eigen::VectorXd force = ctx.fourier->ToCoefficients(Predict(ctx, y, omega).history.force);
+  Eigen::VectorXd relative = y.segment(ctx.DofOffset(0), nc);
+  if (other_ >= 0) relative -= y.segment(ctx.DofOffset(1), nc);
+  const Eigen::VectorXd velocity = omega * (ctx.fourier->DerivativeMatrix() * relative);
+  return {{"force", -fine.ToTime(force).col(0)}, {"velocity", fine.ToTime(velocity).col(0)}};
+}
+
+std::vector<LawSignal> DlftFriction::RawSamples(const NonlinearityContext& ctx,
+                                                const Eigen::VectorXd& y, double omega) const {
+  const SlipHistory history = Predict(ctx, y, omega).history;
+  Eigen::VectorXd slip(history.force.size());
+  for (Eigen::Index j = 0; j < slip.size(); ++j) {
+    slip(j) = history.Sticks(static_cast<int>(j)) ? 0.0 : 1.0;
+  }
+  const FourierTransform& fourier = *ctx.fourier;
+  return {{"force_raw", -history.force},
+          {"force", -fourier.ToTime(fourier.ToCoefficients(history.force)).col(0)},
+          {"slip", slip}};
+}
+
+PhaseCount DlftFriction::StickPhases(const NonlinearityContext& ctx,
+                                     const SlipHistory& history) const {
+  std::vector<bool> stuck(history.anchor.size());
+  for (size_t j = 0; j < stuck.size(); ++j) stuck[j] = history.Sticks(static_cast<int>(j));
+  return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
+}
+
+LawSummary DlftFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                   double omega, const FourierTransform& /*fine*/) const {
+  const PhaseCount phases = StickPhases(ctx, Predict(ctx, y, omega).history);
+  LawSummary summary;
+  summary.phase = LawSummary::Phase{"stick", phases.count, phases.fraction};
+  return summary;
+}
+
+std::map<std::string, double> DlftFriction::Diagnostics(const NonlinearityContext& ctx,
+                                                        const Eigen::VectorXd& y, double omega,
+                                                        const FourierTransform& /*fine*/) const {
+  const SlipHistory history = Predict(ctx, y, omega).history;
+  const PhaseCount phases = StickPhases(ctx, history);
+  std::map<std::string, double> result;
+  result["stick_phases"] = phases.count;
+  result["stick_fraction"] = phases.fraction;
+  result["epsilon"] = epsilon_;
+  if (limit_ > 0.0) result["max_force_ratio"] = history.force.cwiseAbs().maxCoeff() / limit_;
+  return result;
+}
+
+}  // namespace nfrc
