@@ -28,7 +28,8 @@ CoulombFriction::CoulombFriction(int dof, int other, FrictionParameters paramete
   }
 }
 
-std::unique_ptr<Nonlinearity> CoulombFrictionSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> CoulombFrictionSpec::MakeHarmonic(
+    const LinearModel& /*model*/) const {
   return std::make_unique<CoulombFriction>(dof, other, Parameters());
 }
 

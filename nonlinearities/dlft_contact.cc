@@ -6,26 +6,12 @@
 #include "nonlinearities/law_spec.h"
 
 namespace nfrc {
-namespace {
-
-const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega) {
-  if (ctx.condensation == nullptr) {
-    throw std::logic_error("dlft_contact: the context has no condensation");
-  }
-  if (ctx.condensation->omega() != omega) {
-    throw std::logic_error("dlft_contact: the condensation is not at the evaluated omega");
-  }
-  return *ctx.condensation;
-}
-
-}  // namespace
-
 DlftContact::DlftContact(ContactGeometry geometry, double obstacle_stiffness, double epsilon)
     : spec_{std::move(geometry), obstacle_stiffness, epsilon} {
   spec_.Validate();
 }
 
-std::unique_ptr<Nonlinearity> DlftContactSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> DlftContactSpec::MakeHarmonic(const LinearModel& /*model*/) const {
   return std::make_unique<DlftContact>(contact.geometry, contact.obstacle_stiffness,
                                        contact.epsilon);
 }
@@ -37,22 +23,8 @@ void DlftContact::set_epsilon(double epsilon) {
   spec_.epsilon = epsilon;
 }
 
-DlftContact::LinearRows DlftContact::Rows(const NonlinearityContext& ctx, double omega,
-                                          bool derivative) const {
-  const Condensation& condensation = CondensationAt(ctx, omega);
-  const int a = ctx.local_dofs[0];
-  LinearRows rows{condensation.RealOperatorRows(a, derivative),
-                  condensation.RealForcingRows(a, derivative)};
-  if (spec_.geometry.other >= 0) {
-    const int b = ctx.local_dofs[1];
-    rows.a = 0.5 * (rows.a - condensation.RealOperatorRows(b, derivative));
-    rows.b = 0.5 * (rows.b - condensation.RealForcingRows(b, derivative));
-  }
-  return rows;
-}
-
 DlftContact::Prediction DlftContact::Predict(const NonlinearityContext& ctx,
-                                             const Eigen::VectorXd& y, const LinearRows& rows,
+                                             const Eigen::VectorXd& y, const DlftRows& rows,
                                              double epsilon) const {
   const auto x = y.head(rows.a.cols());
   Prediction p;
@@ -76,7 +48,7 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
                            Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                            Eigen::VectorXd* d_omega) const {
   const double epsilon = EpsilonFor(ctx);
-  const LinearRows rows = Rows(ctx, omega, false);
+  const DlftRows rows = Rows(ctx, omega, false);
   const Prediction p = Predict(ctx, y, rows, epsilon);
   spec_.geometry.AddForce(ctx, p.state.force_coefficients, residual);
   if (jacobian == nullptr && d_omega == nullptr) return;
@@ -97,7 +69,7 @@ void DlftContact::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd
     if (pair) jacobian->block(ctx.DofOffset(1), 0, nc, nx) -= n * dforce;
   }
   if (d_omega != nullptr) {
-    const LinearRows d_rows = Rows(ctx, omega, true);
+    const DlftRows d_rows = Rows(ctx, omega, true);
     const Eigen::VectorXd dforce = masked * (-n * (d_rows.a * y.head(nx) - d_rows.b));
     d_omega->segment(ctx.DofOffset(0), nc) += n * dforce;
     if (pair) d_omega->segment(ctx.DofOffset(1), nc) -= n * dforce;
@@ -124,17 +96,9 @@ void DlftContact::LinearizeForStability(const NonlinearityContext& ctx, const Ei
 
 std::optional<LinearResidualDependence> DlftContact::LinearResidualPart(
     const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
-  LinearResidualDependence dependence;
-  dependence.weights = ctx.fourier->WeightedProduct(PredictAt(ctx, y, omega).mask);
   // n·W·(−n·rows) = −W·rows since n = ±1.
-  if (spec_.geometry.other >= 0) {
-    dependence.terms = {{0, -0.5}, {1, 0.5}};
-    dependence.rows = {{0, 1.0}, {1, -1.0}};
-  } else {
-    dependence.terms = {{0, -1.0}};
-    dependence.rows = {{0, 1.0}};
-  }
-  return dependence;
+  return PredictedForceDependence(ctx.fourier->WeightedProduct(PredictAt(ctx, y, omega).mask),
+                                  spec_.geometry.other >= 0);
 }
 
 std::vector<LawSignal> DlftContact::Signals(const NonlinearityContext& ctx,

@@ -6,6 +6,7 @@
 #include "core/linear_model.h"
 #include "core/nonlinearity.h"
 #include "nonlinearities/contact_geometry.h"
+#include "nonlinearities/dlft_rows.h"
 
 namespace nfrc {
 
@@ -82,20 +83,17 @@ class DlftContact : public Nonlinearity {
   double obstacle_stiffness() const { return spec_.obstacle_stiffness; }
 
  private:
-  // The condensed linear equations the prediction reads: rows L = A x − b of the contact
-  // DOF, or half the difference of the two DOFs' rows for a pair (or their ω-derivatives).
-  struct LinearRows {
-    Eigen::MatrixXd a;
-    Eigen::VectorXd b;
-  };
   struct Prediction {
     Eigen::VectorXd gap;   // gap coefficients g̃
     Eigen::VectorXd mask;  // 1 where the sample is in contact (λ_x > 0), else 0
     ContactState state;
   };
-  LinearRows Rows(const NonlinearityContext& ctx, double omega, bool derivative) const;
-  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                     const LinearRows& rows, double epsilon) const;
+  // The condensed linear equations the prediction reads (PredictionRows).
+  DlftRows Rows(const NonlinearityContext& ctx, double omega, bool derivative) const {
+    return PredictionRows(ctx, omega, spec_.geometry.other >= 0, derivative, "dlft_contact");
+  }
+  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, const DlftRows& rows,
+                     double epsilon) const;
   // Predict with the rows at ω (for outputs).
   Prediction PredictAt(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                        double omega) const;

@@ -6,37 +6,6 @@
 #include "nonlinearities/law_spec.h"
 
 namespace nfrc {
-namespace {
-
-const Condensation& CondensationAt(const NonlinearityContext& ctx, double omega) {
-  if (ctx.condensation == nullptr) {
-    throw std::logic_error("dlft_friction: the context has no condensation");
-  }
-  if (ctx.condensation->omega() != omega) {
-    throw std::logic_error("dlft_friction: the condensation is not at the evaluated omega");
-  }
-  return *ctx.condensation;
-}
-
-// The rows A, b of L = A x − b whose negative predicts λ: the DOF's condensed equations, or
-// half the difference of the pair's (λ̃ = −(L_a − L_b)/2 at any solution).
-std::pair<Eigen::MatrixXd, Eigen::VectorXd> PredictionRows(const NonlinearityContext& ctx,
-                                                           double omega, bool pair,
-                                                           bool derivative) {
-  const Condensation& condensation = CondensationAt(ctx, omega);
-  const int a = ctx.local_dofs[0];
-  Eigen::MatrixXd rows = condensation.RealOperatorRows(a, derivative);
-  Eigen::VectorXd forcing = condensation.RealForcingRows(a, derivative);
-  if (pair) {
-    const int b = ctx.local_dofs[1];
-    rows = 0.5 * (rows - condensation.RealOperatorRows(b, derivative));
-    forcing = 0.5 * (forcing - condensation.RealForcingRows(b, derivative));
-  }
-  return {rows, forcing};
-}
-
-}  // namespace
-
 DlftFriction::DlftFriction(int dof, int other, double limit, double epsilon)
     : dof_(dof), other_(other), limit_(limit), epsilon_(epsilon) {
   if (!(limit_ >= 0.0) || !std::isfinite(limit_)) {
@@ -61,11 +30,11 @@ DlftFriction::Prediction DlftFriction::Predict(const NonlinearityContext& ctx,
                                                const Eigen::VectorXd& y, double omega) const {
   const int nc = ctx.num_coefficients();
   Prediction p;
-  std::tie(p.rows, p.forcing) = PredictionRows(ctx, omega, other_ >= 0, false);
-  const auto x = y.head(p.rows.cols());
+  p.rows = PredictionRows(ctx, omega, other_ >= 0, false, type());
+  const auto x = y.head(p.rows.a.cols());
   Eigen::VectorXd z = y.segment(ctx.DofOffset(0), nc);
   if (other_ >= 0) z -= y.segment(ctx.DofOffset(1), nc);
-  z -= (p.rows * x - p.forcing) / epsilon_;
+  z -= (p.rows.a * x - p.rows.b) / epsilon_;
   p.input = ctx.fourier->ToTime(z).col(0);
   p.history = ReturnMapping(p.input, epsilon_, limit_);
   return p;
@@ -91,17 +60,17 @@ void DlftFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorX
 
   // λ̃ = P λ(z), z̃ = (S_a − S_b)x − (A x − b)/ε: ∂λ̃/∂z̃ = J (the return mapping's).
   const Eigen::MatrixXd dz = ReturnMappingJacobian(fourier, p.history, epsilon_);
-  const int nx = static_cast<int>(p.rows.cols());
+  const int nx = static_cast<int>(p.rows.a.cols());
   if (jacobian != nullptr) {
-    Eigen::MatrixXd dforce = -(dz * p.rows) / epsilon_;
+    Eigen::MatrixXd dforce = -(dz * p.rows.a) / epsilon_;
     dforce.middleCols(row_dof, nc) += dz;
     if (row_other >= 0) dforce.middleCols(row_other, nc) -= dz;
     jacobian->block(row_dof, 0, nc, nx) += dforce;
     if (row_other >= 0) jacobian->block(row_other, 0, nc, nx) -= dforce;
   }
   if (d_omega != nullptr) {
-    const auto [d_rows, d_forcing] = PredictionRows(ctx, omega, other_ >= 0, true);
-    const Eigen::VectorXd dforce = -(dz * (d_rows * y.head(nx) - d_forcing)) / epsilon_;
+    const DlftRows d_rows = PredictionRows(ctx, omega, other_ >= 0, true, type());
+    const Eigen::VectorXd dforce = -(dz * (d_rows.a * y.head(nx) - d_rows.b)) / epsilon_;
     d_omega->segment(row_dof, nc) += dforce;
     if (row_other >= 0) d_omega->segment(row_other, nc) -= dforce;
   }
@@ -126,17 +95,9 @@ void DlftFriction::LinearizeForStability(const NonlinearityContext& ctx, const E
 
 std::optional<LinearResidualDependence> DlftFriction::LinearResidualPart(
     const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
-  LinearResidualDependence dependence;
-  dependence.weights =
-      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_) / epsilon_;
-  if (other_ >= 0) {
-    dependence.terms = {{0, -0.5}, {1, 0.5}};
-    dependence.rows = {{0, 1.0}, {1, -1.0}};
-  } else {
-    dependence.terms = {{0, -1.0}};
-    dependence.rows = {{0, 1.0}};
-  }
-  return dependence;
+  return PredictedForceDependence(
+      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_) / epsilon_,
+      other_ >= 0);
 }
 
 std::vector<LawSignal> DlftFriction::Signals(const NonlinearityContext& ctx,
@@ -163,16 +124,9 @@ std::vector<LawSignal> DlftFriction::RawSamples(const NonlinearityContext& ctx,
           {"slip", slip}};
 }
 
-PhaseCount DlftFriction::StickPhases(const NonlinearityContext& ctx,
-                                     const SlipHistory& history) const {
-  std::vector<bool> stuck(history.anchor.size());
-  for (size_t j = 0; j < stuck.size(); ++j) stuck[j] = history.Sticks(static_cast<int>(j));
-  return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
-}
-
 LawSummary DlftFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                    double omega, const FourierTransform& /*fine*/) const {
-  const PhaseCount phases = StickPhases(ctx, Predict(ctx, y, omega).history);
+  const PhaseCount phases = StickPhases(ctx.harmonic_set(), Predict(ctx, y, omega).history);
   LawSummary summary;
   summary.phase = LawSummary::Phase{"stick", phases.count, phases.fraction};
   return summary;
@@ -182,7 +136,7 @@ std::map<std::string, double> DlftFriction::Diagnostics(const NonlinearityContex
                                                         const Eigen::VectorXd& y, double omega,
                                                         const FourierTransform& /*fine*/) const {
   const SlipHistory history = Predict(ctx, y, omega).history;
-  const PhaseCount phases = StickPhases(ctx, history);
+  const PhaseCount phases = StickPhases(ctx.harmonic_set(), history);
   std::map<std::string, double> result;
   result["stick_phases"] = phases.count;
   result["stick_fraction"] = phases.fraction;

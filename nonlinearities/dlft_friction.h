@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "core/nonlinearity.h"
-#include "nonlinearities/phase_count.h"
+#include "nonlinearities/dlft_rows.h"
 #include "nonlinearities/return_mapping.h"
 
 namespace nfrc {
@@ -67,13 +67,11 @@ class DlftFriction : public Nonlinearity {
 
  private:
   struct Prediction {
-    Eigen::MatrixXd rows;     // A of λ_u = −(A x − b): the DOF's rows, or the pair's half
-    Eigen::VectorXd forcing;  // b
-    Eigen::VectorXd input;    // z on the samples
-    SlipHistory history;      // the return mapping of z
+    DlftRows rows;          // A, b of λ_u = −(A x − b)
+    Eigen::VectorXd input;  // z on the samples
+    SlipHistory history;    // the return mapping of z
   };
   Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const;
-  PhaseCount StickPhases(const NonlinearityContext& ctx, const SlipHistory& history) const;
 
   int dof_;
   int other_;

@@ -14,7 +14,8 @@ EqualityContact::EqualityContact(ContactGeometry geometry, double obstacle_stiff
   }
 }
 
-std::unique_ptr<Nonlinearity> EqualityContactSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> EqualityContactSpec::MakeHarmonic(
+    const LinearModel& /*model*/) const {
   return std::make_unique<EqualityContact>(geometry, obstacle_stiffness, rho);
 }
 

@@ -19,7 +19,7 @@ Jenkins::Jenkins(int dof, int other, double stiffness, double limit)
   if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
 }
 
-std::unique_ptr<Nonlinearity> JenkinsSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> JenkinsSpec::MakeHarmonic(const LinearModel& /*model*/) const {
   return std::make_unique<Jenkins>(dof, other, stiffness, mu * normal_load);
 }
 
@@ -70,17 +70,11 @@ std::vector<LawSignal> Jenkins::Signals(const NonlinearityContext& ctx, const Ei
   return {{"force", history.force}, {"displacement", u}, {"slider", slider}};
 }
 
-PhaseCount Jenkins::StickPhases(const NonlinearityContext& ctx, const SlipHistory& history) const {
-  std::vector<bool> stuck(history.anchor.size());
-  for (size_t j = 0; j < stuck.size(); ++j) stuck[j] = history.Sticks(static_cast<int>(j));
-  return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
-}
-
 std::map<std::string, double> Jenkins::Diagnostics(const NonlinearityContext& ctx,
                                                    const Eigen::VectorXd& y, double /*omega*/,
                                                    const FourierTransform& fine) const {
   const SlipHistory history = Sweep(fine.ToTime(RelativeCoefficients(ctx, y)).col(0));
-  const PhaseCount phases = StickPhases(ctx, history);
+  const PhaseCount phases = StickPhases(ctx.harmonic_set(), history);
   std::map<std::string, double> result;
   result["stick_phases"] = phases.count;
   result["stick_fraction"] = phases.fraction;
@@ -91,7 +85,7 @@ std::map<std::string, double> Jenkins::Diagnostics(const NonlinearityContext& ct
 LawSummary Jenkins::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                               double /*omega*/, const FourierTransform& fine) const {
   const SlipHistory history = Sweep(fine.ToTime(RelativeCoefficients(ctx, y)).col(0));
-  const PhaseCount phases = StickPhases(ctx, history);
+  const PhaseCount phases = StickPhases(ctx.harmonic_set(), history);
   LawSummary summary;
   summary.phase = LawSummary::Phase{"stick", phases.count, phases.fraction};
   return summary;

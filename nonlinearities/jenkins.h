@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "core/nonlinearity.h"
-#include "nonlinearities/phase_count.h"
 #include "nonlinearities/return_mapping.h"
 
 namespace nfrc {
@@ -58,8 +57,6 @@ class Jenkins : public Nonlinearity {
   double limit() const { return limit_; }
 
  private:
-  // Stick phases of a history (phases shorter than the highest harmonic's period are ripple).
-  PhaseCount StickPhases(const NonlinearityContext& ctx, const SlipHistory& history) const;
   // Relative displacement coefficients u = x_dof − x_other of y.
   Eigen::VectorXd RelativeCoefficients(const NonlinearityContext& ctx,
                                        const Eigen::VectorXd& y) const;

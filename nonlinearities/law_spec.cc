@@ -213,15 +213,7 @@ void ValidateLaw(const LawSpec& spec, const LinearModel& model) {
 
 std::unique_ptr<Nonlinearity> MakeHarmonicLaw(const LawSpec& spec, const LinearModel& model) {
   ValidateLaw(spec, model);
-  return std::visit(
-      [&](const auto& s) {
-        if constexpr (requires { s.MakeHarmonic(model); }) {
-          return s.MakeHarmonic(model);
-        } else {
-          return s.MakeHarmonic();
-        }
-      },
-      spec);
+  return std::visit([&](const auto& s) { return s.MakeHarmonic(model); }, spec);
 }
 
 }  // namespace nfrc

@@ -27,7 +27,7 @@ struct CubicSpringSpec {
   double coefficient = 0.0;  // N/m³
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Σ c_p u^p, p ≥ 2.
@@ -38,7 +38,7 @@ struct PolynomialSpringSpec {
   std::vector<PolynomialSpring::Term> terms;
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Equality-based Coulomb friction (Legrand & Pierre 2024) under a constant normal load.
@@ -55,7 +55,7 @@ struct CoulombFrictionSpec {
   FrictionParameters Parameters() const;
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Jenkins element: a spring k_t in series with a Coulomb slider μN (elastic dry friction).
@@ -68,7 +68,7 @@ struct JenkinsSpec {
   double stiffness = 0.0;    // k_t, N/m
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // k·max(0, −g): a flexible obstacle of stiffness k.
@@ -78,7 +78,7 @@ struct PenaltyContactSpec {
   double stiffness = 0.0;  // N/m
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Unilateral contact by DLFT (Vadcard et al. 2022).
@@ -87,7 +87,7 @@ struct DlftContactSpec {
   LagrangianContactSpec contact;
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Unilateral contact as a complementarity problem on the samples (LCP-HBM).
@@ -97,7 +97,7 @@ struct LcpContactSpec {
   double smoothing = 0.0;  // m, 0 = exact complementarity
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // Coulomb friction by DLFT (Nacivet et al. 2003): displacement unknowns, the force predicted
@@ -112,7 +112,7 @@ struct DlftFrictionSpec {
   void Validate(const LinearModel& model) const;
   // ε in use (N/m) for a model: `epsilon`, or the mean of K's diagonal over the law's DOFs.
   double EpsilonFor(const LinearModel& model) const;
-  // The harmonic-balance law (defined with the law); its default ε needs the model.
+  // The harmonic-balance law (defined with the law); its default ε reads the model.
   std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
@@ -125,7 +125,7 @@ struct EqualityContactSpec {
   double rho = 0.0;                 // N/m, 0 = default (obstacle stiffness, else static stiffness)
   void Validate(const LinearModel& model) const;
   // The harmonic-balance law (defined with the law).
-  std::unique_ptr<Nonlinearity> MakeHarmonic() const;
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
 // The law registry: one alternative per law. Adding a law adds its spec here; its harmonic

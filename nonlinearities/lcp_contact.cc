@@ -17,7 +17,7 @@ LcpContact::LcpContact(ContactGeometry geometry, double obstacle_stiffness, doub
   }
 }
 
-std::unique_ptr<Nonlinearity> LcpContactSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> LcpContactSpec::MakeHarmonic(const LinearModel& /*model*/) const {
   return std::make_unique<LcpContact>(contact.geometry, contact.obstacle_stiffness, contact.epsilon,
                                       smoothing);
 }

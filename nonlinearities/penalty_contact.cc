@@ -14,7 +14,7 @@ PenaltyContact::PenaltyContact(ContactGeometry geometry, double stiffness)
   }
 }
 
-std::unique_ptr<Nonlinearity> PenaltyContactSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> PenaltyContactSpec::MakeHarmonic(const LinearModel& /*model*/) const {
   return std::make_unique<PenaltyContact>(geometry, stiffness);
 }
 

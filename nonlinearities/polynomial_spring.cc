@@ -19,12 +19,13 @@ PolynomialSpring::PolynomialSpring(std::string type, int dof, int other, std::ve
   if (dof_ == other_) throw std::invalid_argument("other: must differ from dof");
 }
 
-std::unique_ptr<Nonlinearity> CubicSpringSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> CubicSpringSpec::MakeHarmonic(const LinearModel& /*model*/) const {
   return std::make_unique<PolynomialSpring>(std::string(kType), dof, other,
                                             std::vector<PolynomialSpring::Term>{{3, coefficient}});
 }
 
-std::unique_ptr<Nonlinearity> PolynomialSpringSpec::MakeHarmonic() const {
+std::unique_ptr<Nonlinearity> PolynomialSpringSpec::MakeHarmonic(
+    const LinearModel& /*model*/) const {
   return std::make_unique<PolynomialSpring>(std::string(kType), dof, other, terms);
 }
 

@@ -51,4 +51,10 @@ Eigen::MatrixXd ReturnMappingJacobian(const FourierTransform& fourier, const Sli
   return fourier.ProjectionMatrix() * rows;
 }
 
+PhaseCount StickPhases(const HarmonicSet& set, const SlipHistory& history) {
+  std::vector<bool> stuck(history.anchor.size());
+  for (size_t j = 0; j < stuck.size(); ++j) stuck[j] = history.Sticks(static_cast<int>(j));
+  return CountPhases(stuck, 1.0 / set.max_harmonic());
+}
+
 }  // namespace nfrc

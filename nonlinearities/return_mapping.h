@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "core/fourier_transform.h"
+#include "core/harmonic_set.h"
+#include "nonlinearities/phase_count.h"
 
 namespace nfrc {
 
@@ -25,6 +27,10 @@ struct SlipHistory {
   // Whether sample j sticks.
   bool Sticks(int j) const { return anchor[static_cast<size_t>(j)] != kSlip; }
 };
+
+// Stick phases of a history sampled on one period of `set` (phases shorter than the period of
+// its highest harmonic are ripple, see CountPhases).
+PhaseCount StickPhases(const HarmonicSet& set, const SlipHistory& history);
 
 // stiffness > 0 and limit ≥ 0 (checked by the laws).
 SlipHistory ReturnMapping(const Eigen::VectorXd& input, double stiffness, double limit);

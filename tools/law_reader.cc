@@ -8,11 +8,24 @@
 namespace nfrc {
 namespace {
 
+// "dof" and the optional "other" (−1: ground) of a law between two DOFs.
+void ReadDofs(InputFields& fields, const LinearModel& model, int* dof, int* other) {
+  *dof = fields.RequiredDof("dof", model);
+  *other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
+  if (*dof == *other) fields.Fail("other", "must differ from dof");
+}
+
+// "mu" and "normal_load" (N) of a friction law, both non-negative.
+void ReadFrictionLimit(InputFields& fields, double* mu, double* normal_load) {
+  *mu = fields.RequiredNumber("mu");
+  *normal_load = fields.RequiredNumber("normal_load");
+  if (*mu < 0.0) fields.Fail("mu", "must be non-negative");
+  if (*normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+}
+
 void ReadFields(InputFields& fields, const LinearModel& model, CubicSpringSpec* spec) {
   spec->coefficient = fields.RequiredNumber("coefficient");
-  spec->dof = fields.RequiredDof("dof", model);
-  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
+  ReadDofs(fields, model, &spec->dof, &spec->other);
 }
 
 void ReadFields(InputFields& fields, const LinearModel& model, PolynomialSpringSpec* spec) {
@@ -25,19 +38,12 @@ void ReadFields(InputFields& fields, const LinearModel& model, PolynomialSpringS
     spec->terms.push_back(PolynomialSpring::Term{power, term.RequiredNumber("coefficient")});
     term.Finish();
   }
-  spec->dof = fields.RequiredDof("dof", model);
-  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
+  ReadDofs(fields, model, &spec->dof, &spec->other);
 }
 
 void ReadFields(InputFields& fields, const LinearModel& model, CoulombFrictionSpec* spec) {
-  spec->dof = fields.RequiredDof("dof", model);
-  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
-  spec->mu = fields.RequiredNumber("mu");
-  spec->normal_load = fields.RequiredNumber("normal_load");
-  if (spec->mu < 0.0) fields.Fail("mu", "must be non-negative");
-  if (spec->normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+  ReadDofs(fields, model, &spec->dof, &spec->other);
+  ReadFrictionLimit(fields, &spec->mu, &spec->normal_load);
   const std::string law = fields.OptionalString("law", "min_max");
   if (!ParseFrictionEquality(law, &spec->law)) {
     fields.Fail("law", "unknown friction law \"" + law +
@@ -64,27 +70,17 @@ void ReadFields(InputFields& fields, const LinearModel& model, CoulombFrictionSp
 }
 
 void ReadFields(InputFields& fields, const LinearModel& model, JenkinsSpec* spec) {
-  spec->dof = fields.RequiredDof("dof", model);
-  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
-  spec->mu = fields.RequiredNumber("mu");
-  spec->normal_load = fields.RequiredNumber("normal_load");
+  ReadDofs(fields, model, &spec->dof, &spec->other);
+  ReadFrictionLimit(fields, &spec->mu, &spec->normal_load);
   spec->stiffness = fields.RequiredNumber("stiffness");
-  if (spec->mu < 0.0) fields.Fail("mu", "must be non-negative");
-  if (spec->normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
   if (!(spec->stiffness > 0.0) || !std::isfinite(spec->stiffness)) {
     fields.Fail("stiffness", "must be finite and > 0 (N/m)");
   }
 }
 
 void ReadFields(InputFields& fields, const LinearModel& model, DlftFrictionSpec* spec) {
-  spec->dof = fields.RequiredDof("dof", model);
-  spec->other = fields.Has("other") ? fields.RequiredDof("other", model) : -1;
-  if (spec->dof == spec->other) fields.Fail("other", "must differ from dof");
-  spec->mu = fields.RequiredNumber("mu");
-  spec->normal_load = fields.RequiredNumber("normal_load");
-  if (spec->mu < 0.0) fields.Fail("mu", "must be non-negative");
-  if (spec->normal_load < 0.0) fields.Fail("normal_load", "must be non-negative");
+  ReadDofs(fields, model, &spec->dof, &spec->other);
+  ReadFrictionLimit(fields, &spec->mu, &spec->normal_load);
   if (fields.Has("epsilon")) {
     spec->epsilon = fields.RequiredNumber("epsilon");
     if (!(spec->epsilon > 0.0) || !std::isfinite(spec->epsilon)) {
