@@ -128,6 +128,7 @@ ProblemDimensions DimensionsOf(const Case& c) {
         std::holds_alternative<EqualityContactSpec>(law)) {
       d.own_blocks += 1;
     }
+    if (std::holds_alternative<ContactFrictionSpec>(law)) d.own_blocks += 2;
     if (std::holds_alternative<LcpContactSpec>(law)) d.sample_blocks += 1;
   }
   d.num_retained = std::max<double>(1.0, static_cast<double>(retained.size()));

@@ -54,6 +54,12 @@ const double* LawField(const LawSpec& spec, const std::string& field) {
           if (field == "obstacle_stiffness") return &law.obstacle_stiffness;
           if (field == "rho") return &law.rho;
           return GeometryField(law.geometry, field);
+        } else if constexpr (std::is_same_v<Spec, ContactFrictionSpec>) {
+          if (field == "mu") return &law.mu;
+          if (field == "obstacle_stiffness") return &law.obstacle_stiffness;
+          if (field == "rho") return &law.rho;
+          if (field == "friction_rho") return &law.friction_rho;
+          return GeometryField(law.geometry, field);
         } else if constexpr (std::is_same_v<Spec, LcpContactSpec>) {
           if (field == "smoothing") return &law.smoothing;
           return LagrangianField(law.contact, field);

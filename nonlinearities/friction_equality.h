@@ -9,10 +9,10 @@ namespace nfrc {
 // an approximation of it. Every form is piecewise smooth; Derivatives gives the active
 // branch's partial derivatives, used for the semismooth Newton Jacobian.
 enum class FrictionEquality {
-  kMinMax,           // v + min(0, ρ(r + μN) − v) + max(0, ρ(r − μN) − v)   (exact, default)
-  kHueber,           // r·max(μN, |r − ρv|) − μN(r − ρv)                     (exact)
-  kTanh,             // r + μN tanh(αv)                                      (regularised)
-  kArctan,           // r + μN (2/π) arctan(αv)                              (regularised)
+  kMinMax,  // v + min(0, ρ(r + μN) − v) + max(0, ρ(r − μN) − v)   (exact, default)
+  kHueber,  // r·max(μN, |r − ρv|) − μN(r − ρv)                     (exact)
+  kTanh,    // r + μN tanh(αv)                                      (regularised)
+  kArctan,  // r + μN (2/π) arctan(αv)                              (regularised)
   kPiecewiseLinear,  // r = −μN v/δ for |v| ≤ δ, ∓μN beyond                  (approximation)
   kSign,             // r + μN sign(v)                                       (approximation)
 };
@@ -26,17 +26,19 @@ bool IsExact(FrictionEquality equality);
 
 struct FrictionParameters {
   FrictionEquality equality = FrictionEquality::kMinMax;
-  double limit = 0.0;        // μN, force units
-  double rho = 1.0;          // ρ of the exact laws, velocity / force
-  double alpha = 0.0;        // α of tanh and arctan, 1 / velocity
-  double delta = 0.0;        // δ of the piecewise-linear law, velocity
+  double limit = 0.0;  // μN, force units
+  double rho = 1.0;    // ρ of the exact laws, velocity / force
+  double alpha = 0.0;  // α of tanh and arctan, 1 / velocity
+  double delta = 0.0;  // δ of the piecewise-linear law, velocity
 };
 
-// Ψ(v, r) and its partial derivatives on the active branch.
+// Ψ(v, r) and its partial derivatives on the active branch, including the one in the limit
+// μN (for a normal load that varies, as in contact with friction).
 struct FrictionResidual {
   double value = 0.0;
   double d_velocity = 0.0;
   double d_force = 0.0;
+  double d_limit = 0.0;
 };
 
 // Whether the sample (v, r) lies on the law's sticking branch: the stick branch of the exact

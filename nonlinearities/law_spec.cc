@@ -135,6 +135,37 @@ void EqualityContactSpec::Validate(const LinearModel& model) const {
   }
 }
 
+void ContactFrictionSpec::Validate(const LinearModel& model) const {
+  CheckGeometry(geometry, model);
+  if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
+    Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
+  }
+  if (obstacle_stiffness > 0.0 && geometry.other >= 0) {
+    Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
+  }
+  const int n = model.num_dofs();
+  if (tangent_dof < 0 || tangent_dof >= n) {
+    Fail("tangent_dof", "DOF " + std::to_string(tangent_dof) + " is not in the model");
+  }
+  if (tangent_other >= n) {
+    Fail("tangent_other", "DOF " + std::to_string(tangent_other) + " is not in the model");
+  }
+  if (tangent_dof == geometry.dof || tangent_dof == geometry.other) {
+    Fail("tangent_dof", "must differ from the contact's dof and other");
+  }
+  if (tangent_other >= 0 && (tangent_other == tangent_dof || tangent_other == geometry.dof ||
+                             tangent_other == geometry.other)) {
+    Fail("tangent_other", "must differ from tangent_dof and the contact's dof and other");
+  }
+  if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
+  if (!(rho >= 0.0) || !std::isfinite(rho)) {
+    Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
+  }
+  if (!(friction_rho > 0.0) || !std::isfinite(friction_rho)) {
+    Fail("friction_rho", "must be finite and > 0");
+  }
+}
+
 void DlftFrictionSpec::Validate(const LinearModel& model) const {
   CheckDofs(dof, other, model);
   if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
@@ -166,10 +197,17 @@ const ContactGeometry* LawContactGeometry(const LawSpec& spec) {
   if (const auto* s = std::get_if<DlftContactSpec>(&spec)) return &s->contact.geometry;
   if (const auto* s = std::get_if<LcpContactSpec>(&spec)) return &s->contact.geometry;
   if (const auto* s = std::get_if<EqualityContactSpec>(&spec)) return &s->geometry;
+  if (const auto* s = std::get_if<ContactFrictionSpec>(&spec)) return &s->geometry;
   return nullptr;
 }
 
 std::vector<int> LawDofs(const LawSpec& spec) {
+  if (const auto* s = std::get_if<ContactFrictionSpec>(&spec)) {
+    std::vector<int> dofs = s->geometry.Dofs();
+    dofs.push_back(s->tangent_dof);
+    if (s->tangent_other >= 0) dofs.push_back(s->tangent_other);
+    return dofs;
+  }
   if (const ContactGeometry* geometry = LawContactGeometry(spec)) return geometry->Dofs();
   return std::visit(
       [](const auto& s) -> std::vector<int> {
@@ -179,7 +217,8 @@ std::vector<int> LawDofs(const LawSpec& spec) {
         } else {
           static_assert(
               std::is_same_v<T, PenaltyContactSpec> || std::is_same_v<T, DlftContactSpec> ||
-                  std::is_same_v<T, LcpContactSpec> || std::is_same_v<T, EqualityContactSpec>,
+                  std::is_same_v<T, LcpContactSpec> || std::is_same_v<T, EqualityContactSpec> ||
+                  std::is_same_v<T, ContactFrictionSpec>,
               "a law without dof/other must be a contact law");
           return {};
         }
@@ -199,6 +238,10 @@ void RemapLawDofs(LawSpec& spec, const std::vector<int>& new_index) {
         } else if constexpr (requires { s.geometry; }) {
           map(s.geometry.dof);
           map(s.geometry.other);
+          if constexpr (requires { s.tangent_dof; }) {
+            map(s.tangent_dof);
+            map(s.tangent_other);
+          }
         } else {
           map(s.contact.geometry.dof);
           map(s.contact.geometry.other);

@@ -128,12 +128,29 @@ struct EqualityContactSpec {
   std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
 };
 
+// Unilateral contact with Coulomb friction under the contact force (equality-based: Signorini on
+// the normal gap, Coulomb with the limit μλ(t) on a tangent DOF). A preload is a static force in
+// the model's forcing (harmonic 0).
+struct ContactFrictionSpec {
+  static constexpr std::string_view kType = "contact_friction";
+  ContactGeometry geometry;         // the normal gap: dof, other, direction, gap
+  double obstacle_stiffness = 0.0;  // N/m, 0 = rigid
+  int tangent_dof = -1;
+  int tangent_other = -1;     // −1: sliding on the obstacle
+  double mu = 0.0;            // friction coefficient
+  double rho = 0.0;           // N/m, 0 = default (as equality_contact)
+  double friction_rho = 1.0;  // ρ of the friction equality (velocity / force)
+  void Validate(const LinearModel& model) const;
+  // The harmonic-balance law (defined with the law).
+  std::unique_ptr<Nonlinearity> MakeHarmonic(const LinearModel& model) const;
+};
+
 // The law registry: one alternative per law. Adding a law adds its spec here; its harmonic
 // law (MakeHarmonicLaw below) and its time-domain law (AddTimeLaw in validation/transient_model.cc)
 // are then required by the compiler, and the reader finds it by kType.
 using LawSpec = std::variant<CubicSpringSpec, PolynomialSpringSpec, CoulombFrictionSpec,
                              JenkinsSpec, PenaltyContactSpec, DlftContactSpec, LcpContactSpec,
-                             EqualityContactSpec, DlftFrictionSpec>;
+                             EqualityContactSpec, DlftFrictionSpec, ContactFrictionSpec>;
 
 // The case-file "type" of a spec (for messages and outputs).
 std::string_view LawType(const LawSpec& spec);

@@ -188,6 +188,26 @@ void ReadFields(InputFields& fields, const LinearModel& model, EqualityContactSp
   }
 }
 
+void ReadFields(InputFields& fields, const LinearModel& model, ContactFrictionSpec* spec) {
+  spec->geometry = ReadGeometry(fields, model);
+  spec->obstacle_stiffness = ReadObstacleStiffness(fields, spec->geometry);
+  spec->tangent_dof = fields.RequiredDof("tangent_dof", model);
+  spec->tangent_other =
+      fields.Has("tangent_other") ? fields.RequiredDof("tangent_other", model) : -1;
+  spec->mu = fields.RequiredNumber("mu");
+  if (!(spec->mu >= 0.0)) fields.Fail("mu", "must be non-negative");
+  if (fields.Has("rho")) {
+    spec->rho = fields.RequiredNumber("rho");
+    if (!(spec->rho > 0.0) || !std::isfinite(spec->rho)) {
+      fields.Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
+    }
+  }
+  spec->friction_rho = fields.OptionalNumber("friction_rho", 1.0);
+  if (!(spec->friction_rho > 0.0) || !std::isfinite(spec->friction_rho)) {
+    fields.Fail("friction_rho", "must be finite and > 0");
+  }
+}
+
 using Reader = LawSpec (*)(InputFields&, const LinearModel&);
 
 template <typename Spec>

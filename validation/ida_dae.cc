@@ -295,21 +295,23 @@ bool IdaDae::SolveOriginalRows(double t, const std::vector<int>& columns, double
   return true;
 }
 
-// Back onto the undifferentiated rows (their drift under the differentiated ones): the laws
-// snap the differential own unknowns their modes fix, then Newton on x of the reduced DOFs.
-bool IdaDae::ProjectReduced(double t, double* y, const double* yp) {
+// The laws snap the differential own unknowns their modes fix (a sliding force to exactly
+// ∓μN), so that they do not carry a root's location error into the mode; then, with reduced
+// rows, Newton on x of the reduced DOFs brings the state back onto the undifferentiated rows
+// (their drift under the differentiated ones).
+bool IdaDae::SnapAndProject(double t, double* y, const double* yp) {
   for (size_t l = 0; l < model_.laws.size(); ++l) {
     const int num_own = model_.laws[l]->NumOwn();
     if (num_own == 0) continue;
     Eigen::Map<Eigen::VectorXd> own(y + layouts_[l].own_offset, num_own);
     model_.laws[l]->SnapOwn(layouts_[l], View(l, t, y, yp), own);
   }
-  return SolveOriginalRows(t, reduced_x_columns_, y, yp);
+  return reduced_.empty() || SolveOriginalRows(t, reduced_x_columns_, y, yp);
 }
 
 // F is affine in ẏ and the algebraic unknowns, so one Newton step solves it; a second checks.
 bool IdaDae::MakeConsistent(double t, double* y, double* yp) {
-  if (!reduced_.empty() && !ProjectReduced(t, y, yp)) return false;
+  if (!SnapAndProject(t, y, yp)) return false;
   Eigen::VectorXd residual(size_);
   Triplets slope, value;
   for (int iteration = 0; iteration < kConsistentIterations; ++iteration) {

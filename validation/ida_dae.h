@@ -19,7 +19,7 @@ namespace nfrc {
 //
 // Index reduction: the momentum row of an undamped massless DOF on which a law's differential
 // own unknown acts (exact friction on a massless slider, index 2 while sliding) is
-// differentiated in time; ProjectReduced/MakeConsistent bring the state back onto the original
+// differentiated in time; SnapAndProject/MakeConsistent bring the state back onto the original
 // row at every restart.
 class IdaDae {
  public:
@@ -69,7 +69,7 @@ class IdaDae {
   void OriginalRowJacobian(double t, const double* y, const double* yp) const;
   void OriginalResidual(double t, const double* y, const double* yp, double* r) const;
   bool SolveOriginalRows(double t, const std::vector<int>& columns, double* y, const double* yp);
-  bool ProjectReduced(double t, double* y, const double* yp);
+  bool SnapAndProject(double t, double* y, const double* yp);
 
   TransientModel& model_;
   const Excitation& excitation_;

@@ -166,11 +166,10 @@ bool JenkinsTimeLaw::Admissible(const TimeLawLayout& /*layout*/, const DaeView& 
   // and the current mode stays (kUndecided).
 
   if (mode_ == Mode::kStick) {
-    // |f| beyond μN(1 + tolerance) in stick: the sliding force of the slip that just reversed,
-    // carried in because the integrator snaps f only where it differentiates a massless row
-    // (IdaDae::ProjectReduced), so it keeps the release root's overshoot ḟ·δt (up to ~1e-7 μN
-    // for a stiff spring late in a run). Admissible while the spring unloads; loading, the
-    // slider slides.
+    // |f| beyond μN(1 + tolerance) in stick: the sliding force of a slip that an integrator
+    // did not snap (IdaDae snaps at every restart), carrying the release root's overshoot ḟ·δt
+    // (up to ~1e-7 μN for a stiff spring late in a run). Admissible while the spring unloads;
+    // loading, the slider slides.
     if (trend != Trend::kOutward) {
       AcceptStick(f);
       return true;

@@ -18,10 +18,10 @@ namespace nfrc {
 // is). Modes: stick, ḟ = k_t u̇ (the slider holds, the spring deforms); slip+ and slip−, ḟ = 0
 // with f = ±μN (snapped by SnapOwn at a re-initialisation, so that f does not carry the root
 // location's error). Stick → slip± where f reaches ±μN(1 + tolerance); slip → stick where u̇
-// changes sign (the spring unloads). Where the integrator does not snap (IdaDae does only for
-// the massless rows it differentiates), a slip keeps the f its release root left, at or just
-// beyond μN(1 + tolerance): the stick that follows accepts it while the spring unloads and
-// moves its release bound just beyond it (Admissible).
+// changes sign (the spring unloads). An integrator that does not snap (IdaDae does, at every
+// restart) leaves a slip with the f its release root left, at or just beyond μN(1 + tolerance):
+// the stick that follows accepts it while the spring unloads and moves its release bound just
+// beyond it (Admissible).
 class JenkinsTimeLaw : public TimeLaw {
  public:
   enum class Mode { kSlipPositive = 0, kSlipNegative = 1, kStick = 2 };

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/errors.h"
+#include "validation/contact_friction_time_law.h"
 #include "validation/contact_time_law.h"
 #include "validation/friction_time_law.h"
 #include "validation/jenkins_time_law.h"
@@ -110,6 +111,24 @@ void AddTimeLaw(const JenkinsSpec& spec, const std::string& path, TransientModel
                                                 spec.mu * spec.normal_load);
     // A massless DOF's v is algebraic: the relative velocity is read from ẋ.
     law->set_massless(out->massless[spec.dof] || (spec.other >= 0 && out->massless[spec.other]));
+    out->laws.push_back(std::move(law));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path + "." + e.what());
+  }
+  out->law_paths.push_back(path);
+}
+
+// Contact with friction against a flexible obstacle: its penalty spring (the same solution set
+// as the condensed obstacle of the harmonic law) and an exact Coulomb slider under its force.
+// A preload is the model's harmonic-0 forcing, as in the harmonic law.
+void AddTimeLaw(const ContactFrictionSpec& spec, const std::string& path, TransientModel* out) {
+  try {
+    auto law = std::make_unique<ContactFrictionTimeLaw>(spec.geometry, spec.obstacle_stiffness,
+                                                        spec.tangent_dof, spec.tangent_other,
+                                                        spec.mu, /*preload=*/0.0);
+    bool massless = false;
+    for (int dof : LawDofs(spec)) massless = massless || out->massless[dof];
+    law->set_massless(massless);
     out->laws.push_back(std::move(law));
   } catch (const std::invalid_argument& e) {
     throw InputError(path + "." + e.what());

@@ -14,12 +14,13 @@ import json
 import os
 
 from . import _nfrc
-from ._nfrc import (Bifurcation, Branch, Case, CoulombFriction, CubicSpring, DlftContact,
+from ._nfrc import (Bifurcation, Branch, Case, ContactFriction, CoulombFriction, CubicSpring,
+                    DlftContact,
                     DlftFriction, EqualityContact,
                     Floquet, Fold, Forcing, HarmonicSet, InputError, Jenkins, LcpContact,
                     PenaltyContact, PolynomialSpring, Solution, Summary, __version__)
 
-__all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "DlftContact",
+__all__ = ["Bifurcation", "Branch", "Case", "ContactFriction", "CoulombFriction", "CubicSpring", "DlftContact",
            "DlftFriction", "EqualityContact",
            "Floquet", "Fold", "Forcing", "HarmonicSet", "InputError", "Interrupted", "Jenkins",
            "LcpContact", "PenaltyContact",
@@ -29,7 +30,7 @@ __all__ = ["Bifurcation", "Branch", "Case", "CoulombFriction", "CubicSpring", "D
            "__version__"]
 
 LAWS = (CubicSpring, PolynomialSpring, CoulombFriction, Jenkins, PenaltyContact, DlftContact,
-        LcpContact, EqualityContact, DlftFriction)
+        LcpContact, EqualityContact, DlftFriction, ContactFriction)
 
 for _cls in LAWS + (Bifurcation, Branch, Case, Floquet, Fold, Forcing, HarmonicSet, InputError,
                     Solution, Summary):

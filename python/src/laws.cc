@@ -264,6 +264,44 @@ void BindLaws(py::module_& m) {
           [](EqualityContactSpec& s, std::optional<double> v) { s.rho = FromOptional(v, "rho"); });
   GeometryFields(
       equality, [](auto& s) -> auto& { return s.geometry; });
+
+  auto contact_friction = LawClass<ContactFrictionSpec>(
+      m, "ContactFriction",
+      py::make_tuple("dof", "gap", "tangent_dof", "mu", "tangent_other", "obstacle_stiffness",
+                     "rho", "friction_rho", "other", "direction", "gap_harmonics"));
+  contact_friction
+      .def(py::init([](int dof, double gap, int tangent_dof, double mu, int tangent_other,
+                       std::optional<double> obstacle_stiffness, std::optional<double> rho,
+                       double friction_rho, int other, double direction,
+                       const std::vector<GapTerm>& gap_harmonics) {
+             ContactFrictionSpec s;
+             s.geometry = Geometry(dof, gap, other, direction, gap_harmonics);
+             s.obstacle_stiffness = FromOptional(obstacle_stiffness, "obstacle_stiffness");
+             s.tangent_dof = tangent_dof;
+             s.tangent_other = tangent_other;
+             s.mu = mu;
+             s.rho = FromOptional(rho, "rho");
+             s.friction_rho = friction_rho;
+             return s;
+           }),
+           "dof"_a, "gap"_a, "tangent_dof"_a, "mu"_a, "tangent_other"_a = -1,
+           "obstacle_stiffness"_a = py::none(), "rho"_a = py::none(), "friction_rho"_a = 1.0,
+           "other"_a = -1, "direction"_a = 1.0, "gap_harmonics"_a = std::vector<GapTerm>{})
+      .def_readwrite("tangent_dof", &ContactFrictionSpec::tangent_dof)
+      .def_readwrite("tangent_other", &ContactFrictionSpec::tangent_other)
+      .def_readwrite("mu", &ContactFrictionSpec::mu)
+      .def_readwrite("friction_rho", &ContactFrictionSpec::friction_rho)
+      .def_property(
+          "obstacle_stiffness",
+          [](const ContactFrictionSpec& s) { return OrNone(s.obstacle_stiffness); },
+          [](ContactFrictionSpec& s, std::optional<double> v) {
+            s.obstacle_stiffness = FromOptional(v, "obstacle_stiffness");
+          })
+      .def_property(
+          "rho", [](const ContactFrictionSpec& s) { return OrNone(s.rho); },
+          [](ContactFrictionSpec& s, std::optional<double> v) { s.rho = FromOptional(v, "rho"); });
+  GeometryFields(
+      contact_friction, [](auto& s) -> auto& { return s.geometry; });
 }
 
 }  // namespace nfrc::python

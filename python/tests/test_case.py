@@ -156,6 +156,8 @@ def test_every_law_class_round_trips():
         nfrc.Jenkins(1, 0.9, 10.0, stiffness=100.0, other=0),
         nfrc.DlftFriction(1, 0.9, 10.0, epsilon=10.0),
         nfrc.EqualityContact(0, gap=2e-4, obstacle_stiffness=1e10, rho=1e9),
+        nfrc.ContactFriction(0, gap=0.0, tangent_dof=1, mu=0.3, obstacle_stiffness=10.0,
+                             friction_rho=2.0),
     ]
     for law in laws:
         assert eval(repr(law), vars(nfrc)) == law
@@ -207,3 +209,7 @@ def test_new_laws_are_validated_against_the_model_naming_the_field(source_dir):
         nfrc.DlftFriction(1, 0.9, 10.0, epsilon=-1.0)
     with pytest.raises(nfrc.InputError, match=r"^rho"):
         nfrc.EqualityContact(0, gap=2e-4, rho=0.0)
+    case.laws = [nfrc.ContactFriction(0, gap=0.0, tangent_dof=1, mu=0.3)]
+    assert case.laws[0].rho is None and case.laws[0].friction_rho == 1.0
+    with pytest.raises(nfrc.InputError, match=r"nonlinearities\[0\]\.tangent_dof"):
+        case.laws = [nfrc.ContactFriction(0, gap=0.0, tangent_dof=0, mu=0.3)]

@@ -475,5 +475,65 @@ TEST_CASE("contact: two contact nodes, flexible DLFT against the penalty law at 
   CHECK(max_force[1] > 0.5);
 }
 
+// equality_contact (Signorini as min(λ, ρg) = 0 projected, the force an unknown) against the
+// other formulations on NLvib's oscillator. With a flexible obstacle and ρ = k_obs (the
+// default) it is the penalty law exactly, as DLFT with ε = k_obs is: in relative coordinates
+// ρ g_r = k_obs g + T(λ) on every sample (g the absolute gap, T(λ) the truncated force), so
+// min(λ, ρ g_r) = T(λ) − k_obs·max(0, −g) and the projected equations say λ̃ = P(k_obs·max(0,
+// −g)), the penalty AFT. With ρ = 10 k_obs it is another discretisation of the same law,
+// within the H = 21 truncation (kTruncationTolerance); with a rigid obstacle it and DLFT are
+// both exact contact laws, again within truncation. Every branch passes the overhang's folds.
+nlohmann::json Equality(int dof, double gap, double stiffness, double rho) {
+  nlohmann::json law = {{"type", "equality_contact"}, {"dof", dof}, {"gap", gap}};
+  if (stiffness > 0.0) law["obstacle_stiffness"] = stiffness;
+  if (rho > 0.0) law["rho"] = rho;
+  return law;
+}
+
+TEST_CASE("contact: equality_contact against the penalty law (flexible) and DLFT (rigid)") {
+  const auto start = std::chrono::steady_clock::now();
+  Traced equality = TraceCase(NlvibCase({Equality(0, 1, kObstacleStiffness, 0.0)}));
+  Traced stiff_rho =
+      TraceCase(NlvibCase({Equality(0, 1, kObstacleStiffness, 10 * kObstacleStiffness)}));
+  Traced penalty = TraceCase(NlvibCase({Penalty(0, 1, 1, kObstacleStiffness)}));
+  Traced rigid = TraceCase(NlvibCase({Equality(0, 1, 0.0, 0.0)}));
+  nlohmann::json dlft_law = {{"type", "dlft_contact"}, {"dof", 0}, {"gap", 1}};
+  Traced dlft = TraceCase(NlvibCase({dlft_law}));
+  for (Traced* t : {&equality, &stiff_rho, &penalty, &rigid, &dlft}) {
+    INFO(t->branch.summary.message);
+    CHECK(t->branch.summary.reason == TerminationReason::kReachedLambdaBound);
+    CHECK(t->branch.folds.size() >= 2);
+  }
+  // h1 of DOF 1 on the upper branch, where the contact carries load.
+  auto upper = [](Traced& t, double omega) {
+    return H1(t.system->harmonic_set(),
+              t.system->DofCoefficients(SolveOnLastCrossing(t, omega), omega, 1));
+  };
+  double identity = 0.0, truncation = 0.0, rigid_difference = 0.0;
+  std::ostringstream at;
+  for (double omega : {0.6, 0.65, 0.7}) {
+    const double h_penalty = upper(penalty, omega), h_stiff = upper(stiff_rho, omega);
+    const double h_rigid = upper(rigid, omega), h_dlft = upper(dlft, omega);
+    identity = std::max(identity, std::abs(upper(equality, omega) - h_penalty) / h_penalty);
+    truncation = std::max(truncation, std::abs(h_stiff - h_penalty) / h_penalty);
+    rigid_difference = std::max(rigid_difference, std::abs(h_rigid - h_dlft) / h_dlft);
+    at << " " << omega << ": penalty " << h_penalty << ", rho = 10 k_obs " << h_stiff << ", rigid "
+       << h_rigid << " vs DLFT " << h_dlft << ";";
+  }
+  const Peak stiff_peak = FindPeak(stiff_rho, 1), penalty_peak = FindPeak(penalty, 1);
+  const Peak rigid_peak = FindPeak(rigid, 1), dlft_peak = FindPeak(dlft, 1);
+  MESSAGE("equality_contact: " << equality.branch.points.size() << " points, "
+                               << equality.branch.folds.size() << " folds;" << at.str()
+                               << " peaks: rho = 10 k_obs " << std::setprecision(7) << stiff_peak.h1
+                               << " vs penalty " << penalty_peak.h1 << ", rigid " << rigid_peak.h1
+                               << " vs DLFT " << dlft_peak.h1 << "; " << Seconds(start) << " s");
+  CHECK(identity < kIdentityTolerance);
+  CHECK(truncation > kIdentityTolerance);
+  CHECK(truncation < kTruncationTolerance);
+  CHECK(std::abs(stiff_peak.h1 - penalty_peak.h1) / penalty_peak.h1 < kTruncationTolerance);
+  CHECK(rigid_difference < kTruncationTolerance);
+  CHECK(std::abs(rigid_peak.h1 - dlft_peak.h1) / dlft_peak.h1 < kTruncationTolerance);
+}
+
 }  // namespace
 }  // namespace nfrc

@@ -95,6 +95,60 @@ TEST_CASE("validate: Duffing transients match the HBM branch and the middle solu
   }
 }
 
+// The two-DOF contact oscillator (cases/validation/contact_friction_oscillator.json, at H = 31
+// to keep the test short): at ω = 0.4 the tangent DOF sticks and slips in permanent contact;
+// at ω = 1.7 three solutions coexist, the upper one separating. Friction with sticking
+// converges like 1/H. Measured relative differences of h1 with the transient at H = 31: ≤ 0.09 %
+// for the normal DOF, ≤ 3.0 % for the tangent DOF (largest at 1.7 lower, where it mostly sticks
+// and h1 is only 0.03 m; 2.0 % at H = 63 over the case's 11 frequencies). Without friction the
+// tangent h1 changes by 60 % (0.4) to ×10 (1.7 lower), so the tolerances below still see the law.
+constexpr double kNormalAgreement = 0.01;
+constexpr double kTangentAgreement = 0.05;
+
+TEST_CASE("validate: contact with friction, HBM against IDA through stick-slip and separation") {
+  Case the_case =
+      LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/validation/contact_friction_oscillator.json");
+  the_case.harmonics = HarmonicSet(31, false, 1024);
+  ValidationSettings settings = the_case.validation;
+  settings.omegas = {0.4, 1.7};
+  settings.chirp.enabled = false;
+  const ValidationResult result = ValidateCase(the_case, settings);
+  REQUIRE(result.points.size() == 2);
+  CHECK(result.complete);
+  const ValidationPoint& stick_slip = result.points[0];
+  REQUIRE(stick_slip.solutions.size() == 1);
+  const ValidationPoint& separation = result.points[1];
+  REQUIRE(separation.solutions.size() == 3);
+  for (const ValidationPoint* point : {&stick_slip, &separation}) {
+    for (size_t i = 0; i < point->solutions.size(); ++i) {
+      const TransientRun& run = point->transients.at(i);
+      REQUIRE(run.result.periodic());
+      REQUIRE(run.comparison.has_value());
+      const std::string& label = point->solutions[i].label;
+      CAPTURE(point->omega);
+      CAPTURE(label);
+      MESSAGE("omega " << point->omega << ", " << label << " -> " << run.comparison->label
+                       << ": h1 differences " << run.comparison->h1[0] << ", "
+                       << run.comparison->h1[1] << ", energy " << run.comparison->energy);
+      // The saddle's transient leaves it; the stable solutions' stay and agree. (Stick-phase
+      // counts are not compared: a second stick about one period of the 31st harmonic long is
+      // below the HBM's phase resolution at 0.4 and 1.7 lower.)
+      CHECK(run.comparison->stayed == (label != "middle"));
+      if (!run.comparison->stayed) continue;
+      CHECK(run.comparison->h1[0] < kNormalAgreement);
+      CHECK(run.comparison->h1[1] < kTangentAgreement);
+      REQUIRE(point->stability.at(i).monodromy.has_value());
+      CHECK(point->stability[i].monodromy->max_modulus() < 1.0);
+    }
+  }
+  // Stick-slip in permanent contact at 0.4; at 1.7 the upper solution leaves the obstacle.
+  const std::map<std::string, double>& slipping = stick_slip.solutions[0].signals.measures.laws[0];
+  CHECK(slipping.at("stick_phases") >= 1.0);
+  CHECK(slipping.at("stick_fraction") < 0.9);
+  CHECK(slipping.at("contact_fraction") == 1.0);
+  CHECK(separation.solutions[2].signals.measures.laws[0].at("contact_fraction") < 0.9);
+}
+
 TEST_CASE("validate: monodromy off computes none") {
   Case the_case = DuffingCase();
   ValidationSettings settings;

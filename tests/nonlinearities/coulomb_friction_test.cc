@@ -141,6 +141,31 @@ TEST_CASE(
   });
 }
 
+// ∂Ψ/∂(μN), which contact with friction uses for its varying limit.
+TEST_CASE("every friction law: the derivative in the limit matches finite differences") {
+  std::mt19937 rng(20261125);
+  std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+  ForEachFrictionLaw([&](const CoulombFriction& law, const Setup& /*setup*/, bool /*relative*/) {
+    int checked = 0;
+    while (checked < 50) {
+      FrictionParameters p = law.parameters();
+      const double v = uniform(rng), r = 4.0 * uniform(rng);
+      p.limit = 3.0 + uniform(rng);
+      if (SwitchDistance(p, v, r) < kSwitchMargin) continue;
+      const double h = kFdStep * p.limit;
+      FrictionParameters plus = p, minus = p;
+      plus.limit += h;
+      minus.limit -= h;
+      const double fd = (EvaluateFrictionEquality(plus, v, r).value -
+                         EvaluateFrictionEquality(minus, v, r).value) /
+                        (2 * h);
+      CHECK(EvaluateFrictionEquality(p, v, r).d_limit ==
+            doctest::Approx(fd).epsilon(kFdTolerance).scale(1.0));
+      ++checked;
+    }
+  });
+}
+
 TEST_CASE("the exact laws' zero set is Coulomb's law, sliding force r = -muN sign(v)") {
   FrictionParameters p;
   p.limit = 2.0;

@@ -247,6 +247,18 @@ case_error("equality_contact_rho_zero", EQUALITY, setitem(["nonlinearities", 0, 
            "nonlinearities[0].rho")
 case_error("equality_contact_epsilon_key", EQUALITY,
            setitem(["nonlinearities", 0, "epsilon"], 1e9), "nonlinearities[0].epsilon")
+CONTACT_FRICTION = load("contact_friction/oscillator.json")
+case_error("contact_friction_tangent_dof_missing", CONTACT_FRICTION,
+           delitem(["nonlinearities", 0, "tangent_dof"]), "nonlinearities[0].tangent_dof")
+case_error("contact_friction_tangent_dof_is_normal", CONTACT_FRICTION,
+           setitem(["nonlinearities", 0, "tangent_dof"], "normal"),
+           "nonlinearities[0].tangent_dof")
+case_error("contact_friction_mu_negative", CONTACT_FRICTION,
+           setitem(["nonlinearities", 0, "mu"], -0.1), "nonlinearities[0].mu")
+case_error("contact_friction_friction_rho_zero", CONTACT_FRICTION,
+           setitem(["nonlinearities", 0, "friction_rho"], 0), "nonlinearities[0].friction_rho")
+case_error("contact_friction_normal_load_key", CONTACT_FRICTION,
+           setitem(["nonlinearities", 0, "normal_load"], 1), "nonlinearities[0].normal_load")
 case_error("validation_omega_negative", DUFFING, setitem(["validation"], {"omega": [-1]}),
            "validation.omega")
 case_error("validation_unknown_key", DUFFING, setitem(["validation"], {"omegas": [1]}),
