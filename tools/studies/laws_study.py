@@ -216,6 +216,14 @@ def main():
                   " (relative differences of h1 at the rod's end and of the energy):", "",
                   table(["ω", "start", "matches", "status", "h1 end", "energy"],
                         validation_rows(validation, [0])), ""]
+    validation = load(args.out, "jenkins_n10_validate", "validation.json")
+    if validation is not None:
+        lines += ["## jenkins against IDA", "",
+                  "`nfrc validate cases/validation/jenkins_n10.json --no-chirp` (Fig. 7's "
+                  "oscillator, N = 10, k_t = 10 N/m, N_φ = 60; relative differences of h1 of "
+                  "x1 and x2 and of the energy):", "",
+                  table(["ω", "start", "matches", "status", "h1 x1", "h1 x2", "energy"],
+                        validation_rows(validation, [0, 1])), ""]
     lines += ["## Figures", ""] + [f"![{os.path.basename(f)}]({os.path.relpath(f, REPO)})"
                                     for f in figures if f] + [""]
     if failed:
