@@ -140,6 +140,16 @@ ProblemDimensions DimensionsOf(const Case& c) {
   return d;
 }
 
+void StartOptions::Validate() const {
+  if (!(homotopy_factor > 1.0) || !std::isfinite(homotopy_factor)) {
+    throw InputError("continuation.start_homotopy_factor: must be finite and > 1");
+  }
+  if (homotopy_rungs < 1 || homotopy_rungs > kMaxHomotopyRungs) {
+    throw InputError("continuation.start_homotopy_rungs: must be between 1 and " +
+                     std::to_string(kMaxHomotopyRungs));
+  }
+}
+
 void Case::Validate() const {
   try {
     model.model.Validate();
@@ -219,6 +229,7 @@ void Case::Validate() const {
   } catch (const std::invalid_argument& error) {
     throw InputError(std::string("continuation.") + error.what());
   }
+  start.Validate();
   if (method == Method::kLemkeStepping) {
     // Every law must be lcp_contact: LcpHbm checks it, naming the law.
     if (stepping.points < 2) throw InputError("continuation.points: must be at least 2");

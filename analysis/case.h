@@ -31,6 +31,29 @@ struct SteppingOptions {
   bool track_contact = true;
 };
 
+// Bounds of the start's stiffness homotopy: at most this many rungs down, and the smallest
+// stiffness ratio of a rung up before it gives up (a rung that fails is square-rooted).
+inline constexpr int kMaxHomotopyRungs = 30;
+inline constexpr double kMinHomotopyRatio = 1.05;
+
+// How a trace finds its first point at omega_start when Newton from the linear guess fails
+// (StartingGuess; case fields continuation.start_homotopy*).
+struct StartOptions {
+  // A homotopy in the laws' stiffness (LawStiffness: jenkins k_t, dlft_friction ε,
+  // penalty_contact k): the case with every such stiffness divided by factor, factor², …
+  // (at most `rungs` times) until Newton from the linear guess converges, then solved again
+  // at each stiffness up to the case's, warm-started from the secant of the last two rungs
+  // (the ratio of a rung that fails is square-rooted, down to kMinHomotopyRatio). Tried
+  // before the harmonic ladder, and from the ladder's re-expressed coarse solution where the
+  // full set cannot correct it. A stiff stick law starts from the linear guess only when soft:
+  // on the Fig. 7 oscillator Jenkins at k_t = 1e4 did not, at any rung of the ladder.
+  bool homotopy = true;
+  double homotopy_factor = 10.0;  // > 1
+  int homotopy_rungs = 8;         // ≥ 1: the softest rung is the case's stiffness / factor^rungs
+  // Throws InputError("continuation.start_homotopy_<field>: ...").
+  void Validate() const;
+};
+
 // A whole problem as typed values: the model (matrices loaded), the harmonic set, the laws
 // as specifications, and the options of every analysis. Copy it and change a field to get
 // a related problem (fewer harmonics, another ε or normal load); systems are built from it
@@ -44,6 +67,7 @@ struct Case {
   Method method = Method::kArclength;
   ContinuationOptions continuation;  // lambda = ω (rad per time unit)
   SteppingOptions stepping;
+  StartOptions start;                     // the first point's homotopy (arclength method)
   std::vector<int> output_dofs;           // model DOF indices whose measures are reported
   std::vector<std::string> output_names;  // how the outputs are named (index or DOF name)
   std::vector<double> signals_at;         // ω at which time signals are resolved

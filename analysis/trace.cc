@@ -1,8 +1,14 @@
 #include "analysis/trace.h"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
 #include <optional>
 #include <ostream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "analysis/bifurcation.h"
 #include "continuation/fixed_lambda.h"
@@ -108,6 +114,125 @@ int CoarserMaxHarmonic(const HarmonicSet& set) {
   return std::max(1, coarse);
 }
 
+// A stiffness scale this close to 1 is 1 (products of the homotopy's ratios round).
+constexpr double kScaleRounding = 1e-9;
+
+std::string Number(double value) {
+  std::ostringstream text;
+  text << std::setprecision(6) << value;
+  return text.str();
+}
+
+// The stiffness homotopy of StartOptions at omega_start, the last rung solved on `system` (the
+// case's own), the rungs down from `from` (null: each rung's linear guess). Empty if no law
+// has a stiffness, the option is off, no rung down converges, or a rung up fails at the
+// smallest ratio; the outcome goes to `notes`.
+std::optional<Eigen::VectorXd> StiffnessHomotopy(const Case& the_case, HarmonicSystem& system,
+                                                 const Eigen::VectorXd* from,
+                                                 std::ostream* progress,
+                                                 const std::atomic<bool>* stop,
+                                                 std::vector<std::string>* notes) {
+  const StartOptions& start = the_case.start;
+  if (!start.homotopy) return std::nullopt;
+  std::vector<std::pair<size_t, double>> stiff;  // law index, the case's stiffness (N/m)
+  for (size_t i = 0; i < the_case.laws.size(); ++i) {
+    if (const auto k = LawStiffness(the_case.laws[i], the_case.model.model))
+      stiff.push_back({i, *k});
+  }
+  if (stiff.empty()) return std::nullopt;
+  auto note = [&](const std::string& text) {
+    if (progress != nullptr) *progress << "nfrc: " << text << "\n";
+    if (notes != nullptr) notes->push_back("start: " + text);
+  };
+  auto stopped = [&] { return stop != nullptr && stop->load(); };
+  const ContinuationOptions& options = the_case.continuation;
+  const double omega = options.lambda_start;
+  // Solves the case with its stiffnesses times `scale` from `guess` (the linear guess if null):
+  // damped, then undamped (semismooth Newton's local convergence where the line search stalls).
+  int iterations = 0;
+  auto solve = [&](double scale, const Eigen::VectorXd* guess) -> std::optional<Eigen::VectorXd> {
+    std::unique_ptr<HarmonicSystem> scaled_system;
+    HarmonicSystem* target = &system;
+    if (scale != 1.0) {
+      Case scaled = the_case;
+      for (const auto& [i, k] : stiff) SetLawStiffness(scaled.laws[i], k * scale);
+      scaled_system = BuildSystem(scaled);
+      target = scaled_system.get();
+    }
+    const Eigen::VectorXd initial = guess != nullptr ? *guess : target->InitialGuess(omega);
+    FixedLambdaSolution solved = SolveAtFixedLambda(*target, initial, omega, initial, options);
+    iterations += solved.iterations;
+    if (!solved.converged && options.line_search) {
+      ContinuationOptions undamped = options;
+      undamped.line_search = false;
+      solved = SolveAtFixedLambda(*target, initial, omega, initial, undamped);
+      iterations += solved.iterations;
+    }
+    if (progress != nullptr) {
+      *progress << "nfrc: stiffness homotopy: " << Number(scale)
+                << " times the laws' stiffness: " << (solved.converged ? "converged" : "failed")
+                << " (" << iterations << " Newton iterations so far)\n";
+    }
+    if (!solved.converged) return std::nullopt;
+    return solved.y;
+  };
+
+  // Down: the stiffest rung that Newton from the linear guess solves.
+  double scale = 1.0;
+  std::optional<Eigen::VectorXd> y;
+  for (int rung = 1; rung <= start.homotopy_rungs && !y; ++rung) {
+    if (stopped()) return std::nullopt;
+    scale /= start.homotopy_factor;
+    y = solve(scale, from);
+  }
+  const std::string origin =
+      from != nullptr ? "the coarser harmonics' solution" : "the linear guess";
+  if (!y) {
+    note("stiffness homotopy: no start from " + origin + " down to " + Number(scale) +
+         " times the laws' stiffness (" + std::to_string(iterations) + " Newton iterations)");
+    return std::nullopt;
+  }
+  const double softest = scale;
+  // Up, warm-started, to the case's stiffness: from the secant through the last two rungs in
+  // log(stiffness) once there are two (the solution moves smoothly with the stiffness).
+  double ratio = start.homotopy_factor;
+  int rungs = 0;
+  std::optional<Eigen::VectorXd> y_before;
+  double scale_before = 0.0;
+  while (scale < 1.0) {
+    if (stopped()) return std::nullopt;
+    // The last rung lands on the case's stiffness exactly (not a rounding below it).
+    const double next = scale * ratio >= 1.0 - kScaleRounding ? 1.0 : scale * ratio;
+    Eigen::VectorXd guess = *y;
+    if (y_before) {
+      guess += (*y - *y_before) * (std::log(next / scale) / std::log(scale / scale_before));
+    }
+    const int before = iterations;
+    if (std::optional<Eigen::VectorXd> solved = solve(next, &guess)) {
+      y_before = std::move(y);
+      scale_before = scale;
+      y = std::move(solved);
+      scale = next;
+      ++rungs;
+      // An easy rung lets the next one go further (back up to the factor).
+      if (iterations - before <= 2 * options.target_newton_iterations) {
+        ratio = std::min(start.homotopy_factor, ratio * ratio);
+      }
+    } else {
+      ratio = std::sqrt(ratio);
+      if (ratio < kMinHomotopyRatio) {
+        note("stiffness homotopy: failed at " + Number(next) + " times the laws' stiffness, from " +
+             Number(scale) + " (" + std::to_string(iterations) + " Newton iterations)");
+        return std::nullopt;
+      }
+    }
+  }
+  note("stiffness homotopy: started from " + origin + " at " + Number(softest) +
+       " times the laws' stiffness, " + std::to_string(rungs) + (rungs == 1 ? " rung" : " rungs") +
+       " up to the case's (" + std::to_string(iterations) + " Newton iterations)");
+  return y;
+}
+
 }  // namespace
 
 Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
@@ -132,7 +257,7 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 }
 
 Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
-                              const std::atomic<bool>* stop) {
+                              const std::atomic<bool>* stop, std::vector<std::string>* notes) {
   const ContinuationOptions& options = the_case.continuation;
   const double omega = options.lambda_start;
   const Eigen::VectorXd linear = system.InitialGuess(omega);
@@ -150,17 +275,28 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   const bool ladder_first = ladder && system.NumUnknowns() > kLadderFirstUnknowns;
   if (!ladder_first) {
     const FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
-    if (solved.converged || !ladder) return solved.converged ? solved.y : linear;
+    if (solved.converged) return solved.y;
+    if (progress != nullptr) {
+      *progress << "nfrc: no start from the linear guess with H=" << set.max_harmonic() << "\n";
+    }
+    if (const auto homotopy = StiffnessHomotopy(the_case, system, nullptr, progress, stop, notes)) {
+      return *homotopy;
+    }
+    if (!ladder || (stop != nullptr && stop->load())) return linear;
   }
   if (progress != nullptr) {
-    *progress << "nfrc: " << (ladder_first ? "large system" : "no start from the linear guess")
-              << " with H=" << set.max_harmonic() << "; starting from H=" << coarse_h << "\n";
+    if (ladder_first) *progress << "nfrc: large system with H=" << set.max_harmonic() << "; ";
+    *progress << (ladder_first ? "" : "nfrc: ") << "starting from H=" << coarse_h << "\n";
+  }
+  if (notes != nullptr) {
+    notes->push_back("start: harmonic ladder from H=" + std::to_string(coarse_h) +
+                     " to H=" + std::to_string(set.max_harmonic()));
   }
   // The same case with fewer harmonics (the default sampling of that set).
   Case coarse_case = the_case;
   coarse_case.harmonics = HarmonicSet(coarse_h, set.odd_only());
   std::unique_ptr<HarmonicSystem> coarse_system = BuildSystem(coarse_case);
-  const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress, stop);
+  const Eigen::VectorXd coarse = StartingGuess(coarse_case, *coarse_system, progress, stop, notes);
   if (stop != nullptr && stop->load()) return linear;
   const Eigen::VectorXd padded = ChangeHarmonicSet(coarse, coarse_system->harmonic_set(), set);
   // The re-expressed coarse solution lies in semismooth Newton's local region, where a line
@@ -173,6 +309,11 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
     solved = SolveAtFixedLambda(system, padded, omega, padded, options);
   }
   if (solved.converged) return solved.y;
+  // The coarse solution of a stiff law can lie outside Newton's region at the full harmonics
+  // (DLFT friction at ε = 1e4, N_φ = 60): softer, it lies inside.
+  if (const auto homotopy = StiffnessHomotopy(the_case, system, &padded, progress, stop, notes)) {
+    return *homotopy;
+  }
   // Padded failed both ways; at a large system the linear guess has not been tried yet.
   if (ladder_first) {
     solved = SolveAtFixedLambda(system, linear, omega, linear, options);
@@ -197,10 +338,14 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
                       << the_case.harmonics.num_samples() << " samples), omega "
                       << continuation.lambda_start << " -> " << continuation.lambda_end << "\n";
   }
+  std::vector<std::string> start_notes;
   const Eigen::VectorXd guess =
-      options.start != nullptr ? *options.start
-                               : StartingGuess(the_case, *system, options.progress, options.stop);
+      options.start != nullptr
+          ? *options.start
+          : StartingGuess(the_case, *system, options.progress, options.stop, &start_notes);
   result.branch = Trace(*system, continuation, &recorder, &guess, the_case.Plot());
+  std::vector<std::string>& notes = result.branch.summary.notes;
+  notes.insert(notes.begin(), start_notes.begin(), start_notes.end());
   result.quasi_periodic_windows = QuasiPeriodicWindows(result.bifurcations, result.points);
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";

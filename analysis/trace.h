@@ -124,14 +124,18 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
              const PlotSpec& plot = {});
 
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that
-// fails (nonsmooth laws with many harmonics), the start of the same case with about a third
-// of the harmonics (recursively) re-expressed in the full set and corrected (undamped, then
-// damped). Systems of more than 1 000 unknowns go down that ladder before trying the linear
-// guess. Returns the linear guess if every rung fails (the engine then reports the failed
-// start). A raised `stop` skips the remaining rungs (the engine then stops after its first
-// point).
+// fails, (1) the stiffness homotopy of the_case.start (laws with a stiffness: solved softer,
+// then stiffened rung by rung, warm-started), then (2) the start of the same case with about a
+// third of the harmonics (recursively, each rung trying both) re-expressed in the full set and
+// corrected (undamped, then damped): the harmonic ladder. Systems of more than 1 000 unknowns
+// go down the ladder before trying the linear guess. Returns the linear guess if all of it
+// fails (the engine then reports the failed start). A raised `stop` skips the remaining rungs
+// (the engine then stops after its first point). What was done beyond the linear guess (the
+// homotopy's rungs and outcome, the ladder) is appended to `notes` ("start: ..."), which
+// TraceCase puts first in the summary's notes.
 Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
-                              const std::atomic<bool>* stop = nullptr);
+                              const std::atomic<bool>* stop = nullptr,
+                              std::vector<std::string>* notes = nullptr);
 
 // Lemke stepping (continuation.method "lemke_stepping"): LCP-HBM at `stepping.points`
 // evenly spaced ω plus the signals_at frequencies.

@@ -141,6 +141,13 @@ class Continuer {
                               "residual_tolerance, within " +
                               Number(kNoiseFactor) + " times the problem's estimate)");
     }
+    if (reoriented_steps_ > 0) {
+      summary.notes.push_back(
+          std::to_string(reoriented_steps_) +
+          " steps past a corner turning the branch by more than 90 degrees: the orientation "
+          "index (the sign of det[R_u; tangent]) reversed the tangent the previous one oriented "
+          "(the step then retried shorter or accepted as a kink)");
+    }
     if (plot_gaps_ > 0) {
       summary.notes.push_back(std::to_string(plot_gaps_) +
                               " steps sized by the tangent's turn: the problem gave no usable "
@@ -277,7 +284,20 @@ class Continuer {
                      &new_tangent)) {
       return Reject(std::move(record), "no tangent at the corrected point");
     }
-    const double angle = TurnAngle(tangent_scaled, new_tangent);
+    double angle = TurnAngle(tangent_scaled, new_tangent);
+    // Past a corner of a nonsmooth branch the rule τᵀτ_prev > 0 can point the new tangent back
+    // along the branch (where the motion turns by more than 90° at a sharp super-harmonic peak
+    // of a stiff stick law: ω goes on, the amplitude turns back), which was then reported as a
+    // fold and the branch retraced to lambda_start. The orientation index, invariant across
+    // corners, decides at such turns; on smooth turns the two rules agree (they differ only at
+    // branch points, where the tangent turns little).
+    const bool reoriented =
+        angle > options_.max_tangent_angle && OrientationReversed(corrected, new_tangent);
+    if (reoriented) {
+      new_tangent = -new_tangent;
+      angle = TurnAngle(tangent_scaled, new_tangent);
+      ++reoriented_steps_;
+    }
     const double angle_limit = plot_ ? options_.max_plot_turn_angle : options_.max_tangent_angle;
     if (angle > angle_limit) {
       // On a smooth branch the turn shrinks with the step; on a nonsmooth one (a sample of a
@@ -288,10 +308,13 @@ class Continuer {
                         angle >= kKinkAngleRatio * angle_rejection_->angle;
       if (!kink) {
         angle_rejection_ = AngleRejection{h, angle};
-        return Reject(std::move(record), "tangent turned by " + Number(angle) + " rad, above " +
-                                             (plot_ ? "max_plot_turn_angle" : "max_tangent_angle"));
+        return Reject(std::move(record),
+                      "tangent turned by " + Number(angle) + " rad, above " +
+                          (plot_ ? "max_plot_turn_angle" : "max_tangent_angle") +
+                          (reoriented ? " (oriented by the orientation index)" : ""));
       }
       record.note = "kink: tangent jumped by " + Number(angle) + " rad";
+      if (reoriented) record.note += ", oriented by the orientation index";
     }
     PlotVerdict plotted =
         PlotCheck(corrected.u, new_tangent, h, angle > options_.max_tangent_angle);
@@ -322,6 +345,18 @@ class Continuer {
     Accept(std::move(record), point, corrected.u, new_tangent, std::move(plotted.sample));
     if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
+  }
+
+  // Whether the orientation index at the corrected point with `new_tangent` differs from the
+  // last point's with its tangent (the Jacobian there evaluated again: asked for only at large
+  // turns). Undecided (a singular bordered matrix) counts as not reversed.
+  bool OrientationReversed(const CorrectorResult& corrected, const Eigen::VectorXd& new_tangent) {
+    Linearization last;
+    if (!evaluator_.Linearize(u_, &last)) return false;
+    const double r = settings_.residual_scale;
+    const int before = OrientationIndex(last, scaling_, r, scaling_.UnitScaled(tangent_));
+    const int after = OrientationIndex(corrected.linearization, scaling_, r, new_tangent);
+    return before != 0 && after != 0 && before != after;
   }
 
   // Fallback after a failed corrector: where a nonsmooth branch turns by more than 90° (in
@@ -547,6 +582,7 @@ class Continuer {
   bool finished_ = false;
   int newton_iterations_ = 0;
   int noise_floor_steps_ = 0;
+  int reoriented_steps_ = 0;  // step attempts whose tangent the orientation index reversed
   std::string last_failure_;
 };
 

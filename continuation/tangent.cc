@@ -1,6 +1,7 @@
 #include "continuation/tangent.h"
 
 #include <cmath>
+#include <limits>
 
 #include "continuation/augmented_system.h"
 
@@ -10,6 +11,8 @@ namespace {
 // ‖J t‖ relative to ‖J‖_F‖t‖ for a null vector t: a backward-stable LU leaves ~1e-14; a
 // bordered system that is singular in R_y (a start at a fold) leaves O(1).
 constexpr double kNullResidual = 1e-8;
+// A pivot this far below the largest leaves the sign of a determinant to rounding.
+constexpr double kSingularPivotRatio = 1e2 * std::numeric_limits<double>::epsilon();
 
 }  // namespace
 
@@ -52,6 +55,23 @@ bool NextTangent(const Linearization& linearization, const Scaling& scaling, dou
   *tangent_scaled = solution / norm;
   // A full-pivoting fallback on a singular border may lose the orientation: refuse it.
   return tangent_scaled->dot(previous_scaled) > 0.0;
+}
+
+int OrientationIndex(const Linearization& linearization, const Scaling& scaling,
+                     double residual_scale, const Eigen::VectorXd& tangent_scaled) {
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(
+      AugmentedMatrix(linearization, scaling, residual_scale, tangent_scaled));
+  // The determinant's sign from the pivots' signs and the permutation's parity: the product
+  // itself over- or underflows for large systems.
+  const Eigen::VectorXd pivots = lu.matrixLU().diagonal();
+  const double largest = pivots.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return 0;
+  int sign = static_cast<int>(lu.permutationP().determinant());
+  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
+    if (!(std::abs(pivots(i)) > kSingularPivotRatio * largest)) return 0;
+    if (pivots(i) < 0.0) sign = -sign;
+  }
+  return sign;
 }
 
 }  // namespace nfrc

@@ -23,4 +23,15 @@ bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
 bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
                  const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled);
 
+// The orientation index of a unit scaled tangent τ at a point: the sign of
+// det [[R_y D_y, R_λ s_λ] / r; τᵀ] (+1 or −1; 0 if that matrix is singular to rounding).
+// Along a branch of a continuous, piecewise-smooth R it keeps its sign through folds and
+// across the corners where the active piece changes (the orientation of piecewise-linear
+// continuation: the Jacobians on the two sides of a switching surface differ by a rank-one
+// term that vanishes along it), whereas the rule τᵀτ_prev > 0 of NextTangent can point back
+// along the branch past a corner that turns it by more than 90°. It changes sign at branch
+// points. Positive scalings do not change it, so indices taken in different scalings compare.
+int OrientationIndex(const Linearization& linearization, const Scaling& scaling,
+                     double residual_scale, const Eigen::VectorXd& tangent_scaled);
+
 }  // namespace nfrc

@@ -27,7 +27,8 @@ std::vector<int> DlftFriction::Dofs() const {
 }
 
 DlftFriction::Prediction DlftFriction::Predict(const NonlinearityContext& ctx,
-                                               const Eigen::VectorXd& y, double omega) const {
+                                               const Eigen::VectorXd& y, double omega, bool resolve,
+                                               bool with_jacobian) const {
   const int nc = ctx.num_coefficients();
   Prediction p;
   p.rows = PredictionRows(ctx, omega, other_ >= 0, false, type());
@@ -35,31 +36,34 @@ DlftFriction::Prediction DlftFriction::Predict(const NonlinearityContext& ctx,
   Eigen::VectorXd z = y.segment(ctx.DofOffset(0), nc);
   if (other_ >= 0) z -= y.segment(ctx.DofOffset(1), nc);
   z -= (p.rows.a * x - p.rows.b) / epsilon_;
-  p.input = ctx.fourier->ToTime(z).col(0);
-  p.history = ReturnMapping(p.input, epsilon_, limit_);
+  if (resolve) {
+    p.resolved = ResolveReturnMapping(*ctx.fourier, z, epsilon_, limit_, with_jacobian);
+  } else {
+    p.input = ctx.fourier->ToTime(z).col(0);
+    p.history = ReturnMapping(p.input, epsilon_, limit_);
+  }
   return p;
 }
 
 Eigen::VectorXd DlftFriction::Input(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                     double omega) const {
-  return Predict(ctx, y, omega).input;
+  return Predict(ctx, y, omega, false).input;
 }
 
 void DlftFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                             Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                             Eigen::VectorXd* d_omega) const {
-  const FourierTransform& fourier = *ctx.fourier;
   const int nc = ctx.num_coefficients();
   const int row_dof = ctx.DofOffset(0);
   const int row_other = other_ >= 0 ? ctx.DofOffset(1) : -1;
-  const Prediction p = Predict(ctx, y, omega);
-  const Eigen::VectorXd force = fourier.ToCoefficients(p.history.force);
+  const Prediction p = Predict(ctx, y, omega, true, jacobian != nullptr || d_omega != nullptr);
+  const Eigen::VectorXd& force = p.resolved.force;
   residual.segment(row_dof, nc) += force;
   if (row_other >= 0) residual.segment(row_other, nc) -= force;
   if (jacobian == nullptr && d_omega == nullptr) return;
 
-  // λ̃ = P λ(z), z̃ = (S_a − S_b)x − (A x − b)/ε: ∂λ̃/∂z̃ = J (the return mapping's).
-  const Eigen::MatrixXd dz = ReturnMappingJacobian(fourier, p.history, epsilon_);
+  // λ̃ = λ̃(z̃), z̃ = (S_a − S_b)x − (A x − b)/ε: ∂λ̃/∂z̃ = J (the return mapping's).
+  const Eigen::MatrixXd& dz = p.resolved.jacobian;
   const int nx = static_cast<int>(p.rows.a.cols());
   if (jacobian != nullptr) {
     Eigen::MatrixXd dforce = -(dz * p.rows.a) / epsilon_;
@@ -80,8 +84,7 @@ void DlftFriction::LinearizeForStability(const NonlinearityContext& ctx, const E
                                          double omega, Eigen::MatrixXd* jacobian,
                                          Eigen::MatrixXd* /*velocity_jacobian*/) const {
   if (jacobian == nullptr) return;
-  const Eigen::MatrixXd block =
-      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_);
+  const Eigen::MatrixXd block = Predict(ctx, y, omega, true).resolved.jacobian;
   const int nc = ctx.num_coefficients();
   const int row_a = ctx.DofOffset(0);
   jacobian->block(row_a, row_a, nc, nc) += block;
@@ -95,16 +98,15 @@ void DlftFriction::LinearizeForStability(const NonlinearityContext& ctx, const E
 
 std::optional<LinearResidualDependence> DlftFriction::LinearResidualPart(
     const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const {
-  return PredictedForceDependence(
-      ReturnMappingJacobian(*ctx.fourier, Predict(ctx, y, omega).history, epsilon_) / epsilon_,
-      other_ >= 0);
+  return PredictedForceDependence(Predict(ctx, y, omega, true).resolved.jacobian / epsilon_,
+                                  other_ >= 0);
 }
 
 std::vector<LawSignal> DlftFriction::Signals(const NonlinearityContext& ctx,
                                              const Eigen::VectorXd& y, double omega,
                                              const FourierTransform& fine) const {
   const int nc = ctx.num_coefficients();
-  const Eigen::VectorXd force = ctx.fourier->ToCoefficients(Predict(ctx, y, omega).history.force);
+  const Eigen::VectorXd force = Predict(ctx, y, omega, true, false).resolved.force;
   Eigen::VectorXd relative = y.segment(ctx.DofOffset(0), nc);
   if (other_ >= 0) relative -= y.segment(ctx.DofOffset(1), nc);
   const Eigen::VectorXd velocity = omega * (ctx.fourier->DerivativeMatrix() * relative);
@@ -113,20 +115,20 @@ std::vector<LawSignal> DlftFriction::Signals(const NonlinearityContext& ctx,
 
 std::vector<LawSignal> DlftFriction::RawSamples(const NonlinearityContext& ctx,
                                                 const Eigen::VectorXd& y, double omega) const {
-  const SlipHistory history = Predict(ctx, y, omega).history;
+  const SlipHistory history = Predict(ctx, y, omega, false).history;
   Eigen::VectorXd slip(history.force.size());
   for (Eigen::Index j = 0; j < slip.size(); ++j) {
     slip(j) = history.Sticks(static_cast<int>(j)) ? 0.0 : 1.0;
   }
-  const FourierTransform& fourier = *ctx.fourier;
-  return {{"force_raw", -history.force},
-          {"force", -fourier.ToTime(fourier.ToCoefficients(history.force)).col(0)},
-          {"slip", slip}};
+  // "force": the series the residual uses (the resolved return mapping's), on the samples.
+  const Eigen::VectorXd force = Predict(ctx, y, omega, true, false).resolved.force;
+  return {
+      {"force_raw", -history.force}, {"force", -ctx.fourier->ToTime(force).col(0)}, {"slip", slip}};
 }
 
 LawSummary DlftFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                    double omega, const FourierTransform& /*fine*/) const {
-  const PhaseCount phases = StickPhases(ctx.harmonic_set(), Predict(ctx, y, omega).history);
+  const PhaseCount phases = StickPhases(ctx.harmonic_set(), Predict(ctx, y, omega, false).history);
   LawSummary summary;
   summary.phase = LawSummary::Phase{"stick", phases.count, phases.fraction};
   return summary;
@@ -135,7 +137,7 @@ LawSummary DlftFriction::Summarize(const NonlinearityContext& ctx, const Eigen::
 std::map<std::string, double> DlftFriction::Diagnostics(const NonlinearityContext& ctx,
                                                         const Eigen::VectorXd& y, double omega,
                                                         const FourierTransform& /*fine*/) const {
-  const SlipHistory history = Predict(ctx, y, omega).history;
+  const SlipHistory history = Predict(ctx, y, omega, false).history;
   const PhaseCount phases = StickPhases(ctx.harmonic_set(), history);
   std::map<std::string, double> result;
   result["stick_phases"] = phases.count;

@@ -19,7 +19,12 @@ namespace nfrc {
 // where |λ_j| > μN clamps it to ±μN and moves w. This is the return mapping of a spring ε in
 // series with a slider μN driven by z = u + λ_u/ε (two passes for a periodic state). λ acts
 // as +λ on `dof` and −λ on `other`: the friction force on `dof` is r = −λ. At a solution
-// λ = λ_u and u = w: Coulomb's law holds on the samples up to the truncation of λ's series.
+// λ = λ_u and u = w: Coulomb's law holds up to the truncation of λ's series. The residual
+// maps the band-limited z(θ) with its switches resolved between the samples and λ projected
+// exactly (ResolveReturnMapping): sampled, each sample switching is a kink of size ~2ε/N_t in
+// the Jacobian, and ε of the order of the condensed stiffness of the top harmonics (needed for
+// accuracy: ε ≳ (Hω)²m) stalled Newton and the arclength steps at N_φ = 60. Samples, phases
+// and diagnostics come from the sampled return mapping on the N_t samples.
 //
 // Hill's method: the force's dependence on the linear residual is LinearResidualPart and the
 // rest is LinearizeForStability's, with the Jenkins element's quasi-static treatment of the
@@ -68,10 +73,14 @@ class DlftFriction : public Nonlinearity {
  private:
   struct Prediction {
     DlftRows rows;          // A, b of λ_u = −(A x − b)
-    Eigen::VectorXd input;  // z on the samples
-    SlipHistory history;    // the return mapping of z
+    Eigen::VectorXd input;  // z on the samples (sampled)
+    SlipHistory history;    // the sampled return mapping of z (sampled)
+    ResolvedSlip resolved;  // the return mapping of z(θ) with its switches resolved (resolve)
   };
-  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega) const;
+  // With `resolve` the residual's return mapping (and its Jacobian if `with_jacobian`), else
+  // the sampled one.
+  Prediction Predict(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                     bool resolve, bool with_jacobian = true) const;
 
   int dof_;
   int other_;

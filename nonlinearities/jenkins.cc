@@ -43,14 +43,15 @@ void Jenkins::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
   const int nc = ctx.num_coefficients();
   const int row_dof = ctx.DofOffset(0);
   const int row_other = other_ >= 0 ? ctx.DofOffset(1) : -1;
-  const Eigen::VectorXd u = fourier.ToTime(RelativeCoefficients(ctx, y)).col(0);
-  const SlipHistory history = Sweep(u);
-  const Eigen::VectorXd force = fourier.ToCoefficients(history.force);
-  residual.segment(row_dof, nc) += force;
-  if (row_other >= 0) residual.segment(row_other, nc) -= force;
+  // The switches resolved between the samples: sampled, every sample's switch would be a kink
+  // of size ~2k_t/N_t in the Jacobian (see ResolveReturnMapping).
+  const ResolvedSlip slip = ResolveReturnMapping(fourier, RelativeCoefficients(ctx, y), stiffness_,
+                                                 limit_, jacobian != nullptr);
+  residual.segment(row_dof, nc) += slip.force;
+  if (row_other >= 0) residual.segment(row_other, nc) -= slip.force;
 
   if (jacobian != nullptr) {
-    const Eigen::MatrixXd block = ReturnMappingJacobian(fourier, history, stiffness_);
+    const Eigen::MatrixXd& block = slip.jacobian;
     jacobian->block(row_dof, row_dof, nc, nc) += block;
     if (row_other >= 0) {
       jacobian->block(row_dof, row_other, nc, nc) -= block;

@@ -11,17 +11,21 @@ namespace nfrc {
 // The Jenkins element (elastic dry friction): a tangential spring k_t in series with a
 // Coulomb slider of limit μN, on u = x_dof − x_other (or x_dof against ground). Its force
 // f = k_t(u − w), w the slider's position, acts as +f on `dof` and −f on `other`, like a
-// spring k_t·u. The law is hysteretic: it is evaluated by alternating frequency–time with
-// the exact stick/slip update on the N_t samples (return mapping of the slider), two passes
-// over the period so that the second is periodic. With no slip at all the slider stays at
-// the origin and the element is the linear spring k_t; as k_t → ∞ it tends to Coulomb's law.
+// spring k_t·u. The law is hysteretic: the residual is the slider's return mapping on the
+// band-limited u(θ) with its stick/slip switches located between the N_t samples and the
+// force projected exactly (ResolveReturnMapping: the N_t → ∞ limit of alternating
+// frequency–time, without a kink per sample switch, which at k_t ≳ 0.05 N_t stalled Newton).
+// With no slip at all the slider rests where the sampled law's passes from w = 0 leave it
+// (the origin for a small u), and the element is the linear spring k_t; as k_t → ∞ it tends
+// to Coulomb's law. Time signals and diagnostics come from the sampled return mapping
+// (ReturnMapping, two passes) on their fine grid.
 //
-// Jacobian: on a stick sample f_j = f_a + k_t(u_j − u_a), a the last slip sample before j
-// (f_a = ±μN), or f_j = k_t u_j if the slider never moved; on a slip sample f_j = ±μN. It is
-// exact on the active branch of every sample. The law is rate independent: ∂/∂ω = 0.
+// Jacobian: on a stick phase f(θ) = f_a + k_t(u(θ) − u(θ_a)), θ_a the turning point of u
+// where the last slip ended (f_a = ±μN); on a slip phase f = ±μN. It is exact (continuous
+// across the switches). The law is rate independent: ∂/∂ω = 0.
 //
 // Hill's method sees the same Jacobian (no velocity dependence): the exact linearisation of
-// a stick sample, δf(t) = k_t(δu(t) − δu(t_a)), carries the Floquet factor e^{−s(t−t_a)} on
+// a stick phase, δf(t) = k_t(δu(t) − δu(t_a)), carries the Floquet factor e^{−s(t−t_a)} on
 // the anchor's term, which is taken as 1. This is exact for s = 0 (folds and branch points,
 // multipliers at +1) and approximate elsewhere; the monodromy matrix of `nfrc validate`
 // gives the exact multipliers.
@@ -48,7 +52,8 @@ class Jenkins : public Nonlinearity {
   LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                        const FourierTransform& fine) const override;
 
-  // The force f_j (N) on samples u of one period and, per sample, what it depends on.
+  // The sampled return mapping: the force f_j (N) on samples u of one period and, per sample,
+  // what it depends on (time signals and diagnostics).
   SlipHistory Sweep(const Eigen::VectorXd& u) const { return ReturnMapping(u, stiffness_, limit_); }
 
   int dof() const { return dof_; }

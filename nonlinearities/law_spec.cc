@@ -1,6 +1,7 @@
 #include "nonlinearities/law_spec.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "core/errors.h"
@@ -248,6 +249,25 @@ void RemapLawDofs(LawSpec& spec, const std::vector<int>& new_index) {
         }
       },
       spec);
+}
+
+std::optional<double> LawStiffness(const LawSpec& spec, const LinearModel& model) {
+  if (const auto* s = std::get_if<JenkinsSpec>(&spec)) return s->stiffness;
+  if (const auto* s = std::get_if<DlftFrictionSpec>(&spec)) return s->EpsilonFor(model);
+  if (const auto* s = std::get_if<PenaltyContactSpec>(&spec)) return s->stiffness;
+  return std::nullopt;
+}
+
+void SetLawStiffness(LawSpec& spec, double stiffness) {
+  if (auto* s = std::get_if<JenkinsSpec>(&spec)) {
+    s->stiffness = stiffness;
+  } else if (auto* s = std::get_if<DlftFrictionSpec>(&spec)) {
+    s->epsilon = stiffness;
+  } else if (auto* s = std::get_if<PenaltyContactSpec>(&spec)) {
+    s->stiffness = stiffness;
+  } else {
+    throw std::logic_error(std::string(LawType(spec)) + ": the law has no stiffness to set");
+  }
 }
 
 void ValidateLaw(const LawSpec& spec, const LinearModel& model) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <variant>
 #include <vector>
@@ -163,6 +164,15 @@ std::vector<int> LawDofs(const LawSpec& spec);
 
 // Renumbers the DOFs a spec acts on: dof → new_index[dof] (a reduced model's numbering).
 void RemapLawDofs(LawSpec& spec, const std::vector<int>& new_index);
+
+// The stiffness (N/m) through which a law tends to its nonsmooth limit as it grows, where a
+// start can be softened: jenkins' k_t, dlft_friction's ε (its default resolved on `model`),
+// penalty_contact's k. Empty for the other laws (dlft_contact's default ε needs the
+// condensation; `nfrc refine` continues in it).
+std::optional<double> LawStiffness(const LawSpec& spec, const LinearModel& model);
+
+// Sets the stiffness LawStiffness reads; std::logic_error for a law without one.
+void SetLawStiffness(LawSpec& spec, double stiffness);
 
 // Validate() of the alternative held.
 void ValidateLaw(const LawSpec& spec, const LinearModel& model);

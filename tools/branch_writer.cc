@@ -36,7 +36,10 @@ nlohmann::json OptionsToJson(const Case& the_case) {
           {"max_tangent_angle", o.max_tangent_angle},
           {"detect_folds", o.detect_folds},
           {"fold_tolerance", o.fold_tolerance},
-          {"line_search", o.line_search}};
+          {"line_search", o.line_search},
+          {"start_homotopy", the_case.start.homotopy},
+          {"start_homotopy_factor", the_case.start.homotopy_factor},
+          {"start_homotopy_rungs", the_case.start.homotopy_rungs}};
 }
 
 }  // namespace

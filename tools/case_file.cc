@@ -90,6 +90,11 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
   options.detect_folds = fields.OptionalBool("detect_folds", options.detect_folds);
   options.fold_tolerance = fields.OptionalNumber("fold_tolerance", options.fold_tolerance);
   options.line_search = fields.OptionalBool("line_search", options.line_search);
+  result.start.homotopy = fields.OptionalBool("start_homotopy", result.start.homotopy);
+  result.start.homotopy_factor =
+      fields.OptionalNumber("start_homotopy_factor", result.start.homotopy_factor);
+  result.start.homotopy_rungs =
+      fields.OptionalInt("start_homotopy_rungs", result.start.homotopy_rungs);
   fields.Finish();
   try {
     options.Validate();

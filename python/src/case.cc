@@ -50,6 +50,9 @@ py::dict GetContinuation(const Case& c) {
   d["plot_measure"] = c.plot_measure == PlotMeasure::kEnergy ? "energy" : "max_abs";
   d["points"] = c.stepping.points;
   d["track_contact"] = c.stepping.track_contact;
+  d["start_homotopy"] = c.start.homotopy;
+  d["start_homotopy_factor"] = c.start.homotopy_factor;
+  d["start_homotopy_rungs"] = c.start.homotopy_rungs;
   return d;
 }
 
@@ -80,6 +83,18 @@ void SetOption(Case& c, const std::string& key, const py::handle& value) {
     c.stepping.track_contact = Cast<bool>(value, field, "a bool");
     return;
   }
+  if (key == "start_homotopy") {
+    c.start.homotopy = Cast<bool>(value, field, "a bool");
+    return;
+  }
+  if (key == "start_homotopy_factor") {
+    c.start.homotopy_factor = Cast<double>(value, field, "a number");
+    return;
+  }
+  if (key == "start_homotopy_rungs") {
+    c.start.homotopy_rungs = Cast<int>(value, field, "an integer");
+    return;
+  }
   for (const auto& [name, member] : Options()) {
     if (key != name) continue;
     std::visit(
@@ -93,7 +108,8 @@ void SetOption(Case& c, const std::string& key, const py::handle& value) {
         member);
     return;
   }
-  std::string known = "method, points, track_contact";
+  std::string known =
+      "method, points, track_contact, start_homotopy, start_homotopy_factor, start_homotopy_rungs";
   for (const auto& option : Options()) known += std::string(", ") + option.first;
   throw InputError(field + ": unknown option (known: " + known + ")");
 }

@@ -28,6 +28,10 @@ def test_load_case_reads_every_field(source_dir):
     assert case.harmonics.harmonics[:3] == [1, 3, 5]
     assert case.continuation.omega_start == 0.1 and case.continuation.omega_end == 0.8
     assert case.continuation.method == "arclength"
+    assert (case.continuation.start_homotopy, case.continuation.start_homotopy_factor,
+            case.continuation.start_homotopy_rungs) == (True, 10.0, 8)
+    case.continuation.start_homotopy = False
+    assert not case.continuation.start_homotopy
     assert case.output_dofs == [0, 1] and case.output_names == ["x1", "x2"]
     assert case.dof_names == ["x1", "x2"] and case.dof_index("x2") == 1
     np.testing.assert_array_equal(case.K, [[2, -1], [-1, 1]])

@@ -76,5 +76,58 @@ TEST_CASE("tangent: the bordered tangent keeps the orientation of the previous o
   }
 }
 
+// Along R = y³/3 − y − λ, parametrised by y, the tangent (1, y² − 1) turns through the folds
+// at y = ±1 (its λ component changes sign) while det[R_y, R_λ; τᵀ] = (y² − 1)² + 1 keeps its
+// sign: the orientation index is the curve's, in any positive scaling.
+TEST_CASE("tangent: the orientation index keeps its sign through folds, whatever the scaling") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  for (double y_scale : {1.0, 1e-3, 1e4}) {
+    CAPTURE(y_scale);
+    Scaling scaling({0}, 3.0, 1e-6);
+    scaling.Include(Eigen::VectorXd::Constant(1, y_scale));
+    for (double y : {-2.0, -1.0, -0.5, 0.0, 1.0, 2.0}) {
+      CAPTURE(y);
+      Linearization at;
+      REQUIRE(evaluator.Linearize(Eigen::Vector2d(y, y * y * y / 3.0 - y), &at));
+      const Eigen::VectorXd tangent = scaling.UnitScaled(Eigen::Vector2d(1.0, y * y - 1.0));
+      CHECK(OrientationIndex(at, scaling, 1.0, tangent) == 1);
+      CHECK(OrientationIndex(at, scaling, 1.0, -tangent) == -1);
+    }
+  }
+}
+
+// Across a corner of a piecewise-linear R the index keeps the curve's orientation where the
+// rule τᵀτ_prev > 0 reverses it: R = y − (1 − 50|λ − 1/2|) (y, λ scaled alike) turns by
+// ~177° at λ = 1/2. Going up the left arm, τ ∝ (50, 1); on the right arm the tangent line is
+// ±(−50, 1), and τ_prev·(−50, 1) < 0 makes NextTangent choose (50, −1): back up the peak.
+TEST_CASE("tangent: across a corner the orientation index keeps the direction of travel") {
+  class Peak : public ContinuationProblem {
+   public:
+    int NumUnknowns() const override { return 1; }
+    bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                  Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+      (*residual)(0) = y(0) - (1.0 - 50.0 * std::abs(lambda - 0.5));
+      if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 1.0;
+      if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = lambda > 0.5 ? 50.0 : -50.0;
+      return true;
+    }
+  } problem;
+  Evaluator evaluator(problem);
+  Scaling scaling({0}, 1.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::Constant(1, 1.0));
+  Linearization left, right;
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(0.95, 0.499), &left));
+  REQUIRE(evaluator.Linearize(Eigen::Vector2d(0.95, 0.501), &right));
+  const Eigen::VectorXd incoming = Eigen::Vector2d(50.0, 1.0).normalized();
+  Eigen::VectorXd next;
+  REQUIRE(NextTangent(right, scaling, 1.0, incoming, &next));
+  CHECK(next(1) < 0.0);  // the previous tangent's rule: back up the peak (a false fold)
+  CHECK(OrientationIndex(left, scaling, 1.0, incoming) !=
+        OrientationIndex(right, scaling, 1.0, next));
+  CHECK(OrientationIndex(left, scaling, 1.0, incoming) ==
+        OrientationIndex(right, scaling, 1.0, -next));  // λ goes on: −next
+}
+
 }  // namespace
 }  // namespace nfrc

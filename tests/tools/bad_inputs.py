@@ -138,6 +138,14 @@ case_error("plot_tolerance_negative", DUFFING, setitem(["continuation", "plot_to
 case_error("step_negative", DUFFING, setitem(["continuation", "step"], -0.1), "continuation.")
 case_error("max_points_zero", DUFFING, setitem(["continuation", "max_points"], 0),
            "continuation.max_points")
+case_error("start_homotopy_factor_one", DUFFING,
+           setitem(["continuation", "start_homotopy_factor"], 1.0),
+           "continuation.start_homotopy_factor")
+case_error("start_homotopy_rungs_zero", DUFFING,
+           setitem(["continuation", "start_homotopy_rungs"], 0),
+           "continuation.start_homotopy_rungs")
+case_error("start_homotopy_not_bool", DUFFING, setitem(["continuation", "start_homotopy"], 1),
+           "continuation.start_homotopy")
 case_error("method_unknown", DUFFING, setitem(["continuation", "method"], "shooting"),
            "continuation.method")
 case_error("stepping_points_1e9", load("lcp/rigid_stepping_nt41.json"),
