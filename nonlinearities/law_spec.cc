@@ -32,7 +32,10 @@ void CheckGeometry(const ContactGeometry& geometry, const LinearModel& model) {
   }
 }
 
-void CheckLagrangian(const LagrangianContactSpec& contact, const LinearModel& model) {
+// The geometry and obstacle of a Lagrangian or equality-based contact, and its force scale
+// (`scale_field`: DLFT's "epsilon", the equality laws' "rho"; N/m, 0 = default).
+void CheckLagrangian(const LagrangianContactSpec& contact, const LinearModel& model,
+                     const char* scale_field = "epsilon") {
   CheckGeometry(contact.geometry, model);
   if (!(contact.obstacle_stiffness >= 0.0) || !std::isfinite(contact.obstacle_stiffness)) {
     Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
@@ -41,7 +44,7 @@ void CheckLagrangian(const LagrangianContactSpec& contact, const LinearModel& mo
     Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
   }
   if (!(contact.epsilon >= 0.0) || !std::isfinite(contact.epsilon)) {
-    Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
+    Fail(scale_field, "must be finite and > 0 (N/m; omit it for the default)");
   }
 }
 
@@ -124,26 +127,11 @@ void LcpContactSpec::Validate(const LinearModel& model) const {
 }
 
 void EqualityContactSpec::Validate(const LinearModel& model) const {
-  CheckGeometry(geometry, model);
-  if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
-    Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
-  }
-  if (obstacle_stiffness > 0.0 && geometry.other >= 0) {
-    Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
-  }
-  if (!(rho >= 0.0) || !std::isfinite(rho)) {
-    Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
-  }
+  CheckLagrangian(LagrangianContactSpec{geometry, obstacle_stiffness, rho}, model, "rho");
 }
 
 void ContactFrictionSpec::Validate(const LinearModel& model) const {
-  CheckGeometry(geometry, model);
-  if (!(obstacle_stiffness >= 0.0) || !std::isfinite(obstacle_stiffness)) {
-    Fail("obstacle_stiffness", "must be finite and > 0 (N/m; omit it for a rigid obstacle)");
-  }
-  if (obstacle_stiffness > 0.0 && geometry.other >= 0) {
-    Fail("obstacle_stiffness", "not allowed with other: the second body is then part of the model");
-  }
+  CheckLagrangian(LagrangianContactSpec{geometry, obstacle_stiffness, rho}, model, "rho");
   const int n = model.num_dofs();
   if (tangent_dof < 0 || tangent_dof >= n) {
     Fail("tangent_dof", "DOF " + std::to_string(tangent_dof) + " is not in the model");
@@ -159,9 +147,6 @@ void ContactFrictionSpec::Validate(const LinearModel& model) const {
     Fail("tangent_other", "must differ from tangent_dof and the contact's dof and other");
   }
   if (!(mu >= 0.0) || !std::isfinite(mu)) Fail("mu", "must be non-negative");
-  if (!(rho >= 0.0) || !std::isfinite(rho)) {
-    Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
-  }
   if (!(friction_rho > 0.0) || !std::isfinite(friction_rho)) {
     Fail("friction_rho", "must be finite and > 0");
   }

@@ -144,6 +144,16 @@ double ReadObstacleStiffness(InputFields& fields, const ContactGeometry& geometr
   return stiffness;
 }
 
+// "rho" (N/m) of an equality-based contact: absent, the default (stored as 0).
+double ReadContactRho(InputFields& fields) {
+  if (!fields.Has("rho")) return 0.0;
+  const double rho = fields.RequiredNumber("rho");
+  if (!(rho > 0.0) || !std::isfinite(rho)) {
+    fields.Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
+  }
+  return rho;
+}
+
 LagrangianContactSpec ReadLagrangian(InputFields& fields, const LinearModel& model) {
   LagrangianContactSpec spec;
   spec.geometry = ReadGeometry(fields, model);
@@ -180,12 +190,7 @@ void ReadFields(InputFields& fields, const LinearModel& model, LcpContactSpec* s
 void ReadFields(InputFields& fields, const LinearModel& model, EqualityContactSpec* spec) {
   spec->geometry = ReadGeometry(fields, model);
   spec->obstacle_stiffness = ReadObstacleStiffness(fields, spec->geometry);
-  if (fields.Has("rho")) {
-    spec->rho = fields.RequiredNumber("rho");
-    if (!(spec->rho > 0.0) || !std::isfinite(spec->rho)) {
-      fields.Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
-    }
-  }
+  spec->rho = ReadContactRho(fields);
 }
 
 void ReadFields(InputFields& fields, const LinearModel& model, ContactFrictionSpec* spec) {
@@ -196,12 +201,7 @@ void ReadFields(InputFields& fields, const LinearModel& model, ContactFrictionSp
       fields.Has("tangent_other") ? fields.RequiredDof("tangent_other", model) : -1;
   spec->mu = fields.RequiredNumber("mu");
   if (!(spec->mu >= 0.0)) fields.Fail("mu", "must be non-negative");
-  if (fields.Has("rho")) {
-    spec->rho = fields.RequiredNumber("rho");
-    if (!(spec->rho > 0.0) || !std::isfinite(spec->rho)) {
-      fields.Fail("rho", "must be finite and > 0 (N/m; omit it for the default)");
-    }
-  }
+  spec->rho = ReadContactRho(fields);
   spec->friction_rho = fields.OptionalNumber("friction_rho", 1.0);
   if (!(spec->friction_rho > 0.0) || !std::isfinite(spec->friction_rho)) {
     fields.Fail("friction_rho", "must be finite and > 0");
