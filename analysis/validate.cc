@@ -1,11 +1,13 @@
 #include "analysis/validate.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <ostream>
+#include <string>
 
 #include "analysis/bifurcation.h"
 #include "core/errors.h"
@@ -18,14 +20,35 @@ double Relative(double value, double reference) {
   return std::abs(value - reference) / std::max(std::abs(reference), 1e-300);
 }
 
-// x(0) and ẋ(0) of every model DOF of an HBM solution.
-InitialState StateAtZero(HarmonicSystem& system, const CrossingSolution& s) {
+// x(0) and ẋ(0) of every model DOF of an HBM solution and, when a time law has memory, its
+// own unknowns at t = 0 from the harmonic law's signal (TimeLaw::OwnSignal; the fine grid's
+// first sample is θ = 0): a Jenkins slider starts where the HBM solution has it, not at rest.
+InitialState StateAtZero(const TransientModel& model, HarmonicSystem& system,
+                         const CrossingSolution& s) {
   const FourierTransform& fourier = system.fourier();
   const Eigen::MatrixXd xt = s.coefficients.transpose();
   const Eigen::MatrixXd vt = s.omega * fourier.DerivativeMatrix() * xt;
   InitialState start;
   start.x = fourier.ToTime(xt).row(0).transpose();
   start.v = fourier.ToTime(vt).row(0).transpose();
+  int num_own = 0;
+  for (const auto& law : model.laws) num_own += law->NumOwn();
+  Eigen::VectorXd own = Eigen::VectorXd::Zero(num_own);
+  bool carried = false;
+  int offset = 0;
+  for (size_t l = 0; l < model.laws.size(); ++l) {
+    for (int k = 0; k < model.laws[l]->NumOwn(); ++k, ++offset) {
+      const std::string signal = model.laws[l]->OwnSignal(k);
+      if (signal.empty()) continue;
+      const std::string column = "law" + std::to_string(model.law_sources[l]) + "_" + signal;
+      const std::vector<std::string>& names = s.signals.fine.names;
+      const auto found = std::find(names.begin(), names.end(), column);
+      assert(found != names.end() && "a time law's OwnSignal names a signal of its harmonic law");
+      own(offset) = s.signals.fine.columns[static_cast<size_t>(found - names.begin())](0);
+      carried = true;
+    }
+  }
+  if (carried) start.own = std::move(own);
   return start;
 }
 
@@ -114,7 +137,8 @@ TransientComparison Compare(const Case& the_case, HarmonicSystem& system,
 }
 
 // The transients at one ω: from each HBM solution, or from rest (start rest, or no solution).
-void RunTransients(const Case& the_case, const ValidationSettings& settings, HarmonicSystem& system,
+void RunTransients(const Case& the_case, const TransientModel& model,
+                   const ValidationSettings& settings, HarmonicSystem& system,
                    TransientIntegrator& integrator, const ValidationOptions& options,
                    ValidationPoint* point) {
   const double omega = point->omega;
@@ -132,7 +156,7 @@ void RunTransients(const Case& the_case, const ValidationSettings& settings, Har
     run.start = from >= 0 ? "hbm " + solutions[from].label : "rest";
     InitialState start;
     if (from >= 0) {
-      start = StateAtZero(system, solutions[from]);
+      start = StateAtZero(model, system, solutions[from]);
     } else {
       start.x = Eigen::VectorXd::Zero(the_case.model.model.num_dofs());
       start.v = start.x;
@@ -194,7 +218,7 @@ void RunMonodromies(const TransientModel& model, const ValidationSettings& setti
     if (options.stop != nullptr && options.stop->load()) break;
     const CrossingSolution& s = point->solutions[i];
     std::optional<MonodromyResult>& slot = point->stability[i].monodromy;
-    slot = ComputeMonodromy(integrator, model, point->omega, StateAtZero(system, s),
+    slot = ComputeMonodromy(integrator, model, point->omega, StateAtZero(model, system, s),
                             settings.monodromy, options.stop);
     const MonodromyResult& m = *slot;
     if (options.progress != nullptr) {
@@ -302,7 +326,7 @@ ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& se
       *options.progress << "nfrc validate: omega " << omega << ": " << point.solutions.size()
                         << " HBM solution(s)\n";
     }
-    RunTransients(the_case, settings, *system, *integrator, options, &point);
+    RunTransients(the_case, transient_model, settings, *system, *integrator, options, &point);
     RunMonodromies(transient_model, settings, *system, *integrator, options, &point);
     CompareStability(the_case, *system, &point);
     if (options.observer != nullptr) options.observer->OnPoint(point);

@@ -153,6 +153,9 @@ class IdaStepper::Run {
   double t() const { return t_; }
   Eigen::Map<const Eigen::VectorXd> X() const { return {Y(), dae_.num_dofs()}; }
   Eigen::Map<const Eigen::VectorXd> V() const { return {Y() + dae_.num_dofs(), dae_.num_dofs()}; }
+  Eigen::Map<const Eigen::VectorXd> Own() const {
+    return {Y() + 2 * dae_.num_dofs(), q_ - 2 * dae_.num_dofs()};
+  }
   const std::vector<LawPhaseLog>& phase_logs() const { return phase_logs_; }
 
   StepperQuadratures Quadratures() const {
@@ -189,6 +192,16 @@ class IdaStepper::Run {
     Eigen::Map<Eigen::VectorXd> y(MutableY(), size_);
     y.head(n) = start.x;
     y.segment(n, n) = start.v;
+    if (start.own.size() > 0) {
+      if (start.own.size() != q_ - 2 * n) {
+        return Fail("the start has " + std::to_string(start.own.size()) +
+                    " own unknowns, the laws " + std::to_string(q_ - 2 * n));
+      }
+      // Only the differential ones: the algebraic ones follow from consistency.
+      for (int j = 2 * n; j < q_; ++j) {
+        if (dae_.differential(j)) y(j) = start.own(j - 2 * n);
+      }
+    }
     double amplitude = LinearAmplitude(model_.model, excitation_.terms, excitation_.omega);
     if (excitation_.chirp) {
       // The response at both ends of the sweep; near a resonance inside it rtol governs anyway.
@@ -472,6 +485,7 @@ bool IdaStepper::ResetQuadratures() { return run_->ResetQuadratures(); }
 double IdaStepper::t() const { return run_ ? run_->t() : 0.0; }
 Eigen::Ref<const Eigen::VectorXd> IdaStepper::x() const { return run_->X(); }
 Eigen::Ref<const Eigen::VectorXd> IdaStepper::v() const { return run_->V(); }
+Eigen::VectorXd IdaStepper::own() const { return run_->Own(); }
 LawSignalValues IdaStepper::Signals() const { return run_->Signals(); }
 const std::vector<LawPhaseLog>& IdaStepper::PhaseLogs() const { return run_->phase_logs(); }
 StepperQuadratures IdaStepper::Quadratures() const { return run_->Quadratures(); }

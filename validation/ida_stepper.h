@@ -33,6 +33,7 @@ class IdaStepper : public TransientStepper {
   double t() const override;
   Eigen::Ref<const Eigen::VectorXd> x() const override;
   Eigen::Ref<const Eigen::VectorXd> v() const override;
+  Eigen::VectorXd own() const override;
   LawSignalValues Signals() const override;
   const std::vector<LawPhaseLog>& PhaseLogs() const override;
   StepperQuadratures Quadratures() const override;

@@ -103,6 +103,12 @@ void JenkinsTimeLaw::Roots(const TimeLawLayout& /*layout*/, const DaeView& s, do
   }
 }
 
+double JenkinsTimeLaw::OwnStateScale(int k, double value) const {
+  constexpr double kFreeMargin = 1e-3;
+  if (k != 0 || !(limit_ > 0.0)) return 0.0;
+  return std::abs(value) < (1.0 - kFreeMargin) * limit_ ? limit_ : 0.0;
+}
+
 void JenkinsTimeLaw::InitMode(const TimeLawLayout& /*layout*/, const DaeView& s) {
   const double f = s.own(0);
   release_bound_ = Bound();

@@ -44,6 +44,11 @@ class JenkinsTimeLaw : public TimeLaw {
   std::string type() const override { return "jenkins"; }
   int NumOwn() const override { return 1; }
   bool OwnIsDifferential(int k) const override { return k == 0; }
+  // f is the harmonic Jenkins law's "force" signal.
+  std::string OwnSignal(int k) const override { return k == 0 ? "force" : ""; }
+  // μN while f sticks at least kFreeMargin·μN inside the bound: a perturbation of a few
+  // 1e-4 μN (the monodromy's steps) then keeps the stick; nearer, f is taken as fixed (slip).
+  double OwnStateScale(int k, double value) const override;
   void SnapOwn(const TimeLawLayout& layout, const DaeView& s,
                Eigen::Ref<Eigen::VectorXd> own) const override;
   void Residual(const TimeLawLayout& layout, const DaeView& s,

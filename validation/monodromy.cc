@@ -30,25 +30,55 @@ std::vector<int> MassiveDofs(const Eigen::SparseMatrix<double>& mass) {
   return dofs;
 }
 
-// z = (x_d, v_d) over the state DOFs d.
-Eigen::VectorXd StateOf(const InitialState& s, const std::vector<int>& dofs) {
-  const int m = static_cast<int>(dofs.size());
-  Eigen::VectorXd z(2 * m);
+// The components of z: (x_d, v_d) over the DOFs with mass d, then the free own unknowns o
+// (indices into InitialState::own).
+struct StateLayout {
+  std::vector<int> dofs;
+  std::vector<int> own;
+  int size() const { return static_cast<int>(2 * dofs.size() + own.size()); }
+};
+
+// The laws' differential own unknowns that are free components of the state at on_orbit
+// (TimeLaw::OwnStateScale > 0), with their scales; none when the start carries no own values.
+void FreeOwnUnknowns(const TransientModel& model, const InitialState& on_orbit,
+                     std::vector<int>* indices, std::vector<double>* scales) {
+  int offset = 0;
+  for (const auto& law : model.laws) {
+    for (int k = 0; k < law->NumOwn(); ++k, ++offset) {
+      if (offset >= on_orbit.own.size() || !law->OwnIsDifferential(k)) continue;
+      const double scale = law->OwnStateScale(k, on_orbit.own(offset));
+      if (scale > 0.0) {
+        indices->push_back(offset);
+        scales->push_back(scale);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd StateOf(const InitialState& s, const StateLayout& layout) {
+  const int m = static_cast<int>(layout.dofs.size());
+  Eigen::VectorXd z(layout.size());
   for (int i = 0; i < m; ++i) {
-    z(i) = s.x(dofs[i]);
-    z(m + i) = s.v(dofs[i]);
+    z(i) = s.x(layout.dofs[i]);
+    z(m + i) = s.v(layout.dofs[i]);
+  }
+  for (size_t i = 0; i < layout.own.size(); ++i) {
+    z(2 * m + static_cast<int>(i)) = s.own(layout.own[i]);
   }
   return z;
 }
 
-// on_orbit with its state DOFs replaced by z.
-InitialState WithState(const InitialState& on_orbit, const std::vector<int>& dofs,
+// on_orbit with its state components replaced by z.
+InitialState WithState(const InitialState& on_orbit, const StateLayout& layout,
                        const Eigen::VectorXd& z) {
   InitialState s = on_orbit;
-  const int m = static_cast<int>(dofs.size());
+  const int m = static_cast<int>(layout.dofs.size());
   for (int i = 0; i < m; ++i) {
-    s.x(dofs[i]) = z(i);
-    s.v(dofs[i]) = z(m + i);
+    s.x(layout.dofs[i]) = z(i);
+    s.v(layout.dofs[i]) = z(m + i);
+  }
+  for (size_t i = 0; i < layout.own.size(); ++i) {
+    s.own(layout.own[i]) = z(2 * m + static_cast<int>(i));
   }
   return s;
 }
@@ -85,10 +115,14 @@ MonodromyResult ComputeMonodromy(TransientIntegrator& integrator, const Transien
     return std::move(result);
   };
   result.state_dofs = MassiveDofs(model.model.mass);
-  const std::vector<int>& dofs = result.state_dofs;
-  const int m = static_cast<int>(dofs.size());
+  StateLayout layout;
+  layout.dofs = result.state_dofs;
+  std::vector<double> own_scales;
+  FreeOwnUnknowns(model, on_orbit, &layout.own, &own_scales);
+  result.state_own = layout.own;
+  const int m = static_cast<int>(layout.dofs.size());
   if (m == 0) return finish(false, "no DOF has mass: the state is empty");
-  const Eigen::VectorXd z0 = StateOf(on_orbit, dofs);
+  const Eigen::VectorXd z0 = StateOf(on_orbit, layout);
   double scale = options.scale;
   if (scale == 0.0) {
     scale = std::max(z0.head(m).cwiseAbs().maxCoeff(), z0.tail(m).cwiseAbs().maxCoeff() / omega);
@@ -109,23 +143,32 @@ MonodromyResult ComputeMonodromy(TransientIntegrator& integrator, const Transien
   if (!integrator.IntegratePeriods(omega, on_orbit, 1, &end, &failure)) {
     return finish(false, "period map at the orbit: " + failure);
   }
-  result.closure = ((StateOf(end, dofs) - z0).cwiseProduct(unit)).cwiseAbs().maxCoeff() / scale;
+  if (!layout.own.empty() && end.own.size() != on_orbit.own.size()) {
+    return finish(false, "the integrator does not report the laws' own unknowns");
+  }
+  result.closure = ((StateOf(end, layout).head(2 * m) - z0.head(2 * m)).cwiseProduct(unit))
+                       .cwiseAbs()
+                       .maxCoeff() /
+                   scale;
 
-  result.matrix.resize(2 * m, 2 * m);
-  for (int j = 0; j < 2 * m; ++j) {
-    const double h = options.relative_step * scale * (j < m ? 1.0 : omega);
+  const int size = layout.size();
+  result.matrix.resize(size, size);
+  for (int j = 0; j < size; ++j) {
+    const double h =
+        options.relative_step *
+        (j < 2 * m ? scale * (j < m ? 1.0 : omega) : own_scales[static_cast<size_t>(j - 2 * m)]);
     Eigen::VectorXd images[2];
     for (int side = 0; side < 2; ++side) {
       Eigen::VectorXd z = z0;
       z(j) += side == 0 ? h : -h;
       if (stopped()) return finish(false, "stopped");
       ++result.integrations;
-      if (!integrator.IntegratePeriods(omega, WithState(on_orbit, dofs, z), 1, &end, &failure)) {
+      if (!integrator.IntegratePeriods(omega, WithState(on_orbit, layout, z), 1, &end, &failure)) {
         std::ostringstream out;
         out << "period map at z0 " << (side == 0 ? "+" : "-") << " h e_" << j << ": " << failure;
         return finish(false, out.str());
       }
-      images[side] = StateOf(end, dofs);
+      images[side] = StateOf(end, layout);
     }
     result.matrix.col(j) = (images[0] - images[1]) / (2.0 * h);
   }

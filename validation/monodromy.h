@@ -41,11 +41,13 @@ struct MonodromyOptions {
 struct MonodromyResult {
   bool ok = false;
   std::string message;  // why not ok; else empty
-  // The state: z = (x_d, v_d) for the DOFs d in state_dofs, x first (m, then m/s).
+  // The state: z = (x_d, v_d, o) for the DOFs d in state_dofs, x first (m, then m/s), then
+  // the laws' free own unknowns o (state_own; a sticking Jenkins force, N).
   Eigen::MatrixXd matrix;
   // Eigenvalues of `matrix`, sorted by decreasing modulus.
   std::vector<std::complex<double>> multipliers;
   std::vector<int> state_dofs;  // DOFs with mass (a non-zero row of M), increasing
+  std::vector<int> state_own;   // indices into InitialState::own of the free own unknowns
   double scale = 0.0;           // A used for the steps (m)
   // |P(z0) − z0|∞ / A with z = (x, v/ω): how far z0 is from a T-periodic orbit.
   double closure = 0.0;
@@ -59,10 +61,12 @@ struct MonodromyResult {
 // / (2 h_j). Only the DOFs with mass are state: a massless DOF's velocity is algebraic (its
 // momentum row has no inertia) and its displacement, held at its on_orbit value in every run,
 // is left to the integrator's consistent initialisation, so a massless but damped DOF's
-// first-order memory is not part of Φ; nor are the laws' own unknowns (friction forces), which
-// each run re-initialises from (x, v). `integrator` is the model's (MakeTransientIntegrator);
-// on_orbit.x and .v hold every DOF. A set `stop` (polled before each integration) ends it
-// with ok = false. Throws InputError for bad options or ω.
+// first-order memory is not part of Φ. The laws' own unknowns are re-initialised from (x, v)
+// by each run (friction forces), except the differential ones given in on_orbit.own: those
+// that are free there (TimeLaw::OwnStateScale > 0, a sticking Jenkins force) are state
+// components, stepped by relative_step × their scale; the others are held. `integrator` is the
+// model's (MakeTransientIntegrator); on_orbit.x and .v hold every DOF. A set `stop` (polled before
+// each integration) ends it with ok = false. Throws InputError for bad options or ω.
 MonodromyResult ComputeMonodromy(TransientIntegrator& integrator, const TransientModel& model,
                                  double omega, const InitialState& on_orbit,
                                  const MonodromyOptions& options = {},

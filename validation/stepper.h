@@ -16,6 +16,8 @@ struct StepperStart {
   const Excitation* excitation = nullptr;  // outlives the run
   Eigen::VectorXd x;                       // displacements at t = 0 (m), one per DOF
   Eigen::VectorXd v;                       // velocities at t = 0 (m/s)
+  // The laws' own unknowns at t = 0, as InitialState::own (empty: from the momentum rows).
+  Eigen::VectorXd own;
   // The driver samples the state this many times per excitation cycle; a fixed-step scheme
   // without a stability limit takes it as its resolution.
   int samples_per_cycle = 1;
@@ -73,6 +75,8 @@ class TransientStepper {
   virtual double t() const = 0;
   virtual Eigen::Ref<const Eigen::VectorXd> x() const = 0;
   virtual Eigen::Ref<const Eigen::VectorXd> v() const = 0;
+  // The laws' own unknowns at t() (InitialState::own's layout); empty for a scheme without.
+  virtual Eigen::VectorXd own() const { return {}; }
 
   virtual LawSignalValues Signals() const = 0;
   // Phase changes of each law (and rigid contact) since the last BeginSegment, at times in

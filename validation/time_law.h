@@ -53,6 +53,14 @@ class TimeLaw {
   // The integrator differentiates the momentum row of a massless, undamped DOF that such an
   // unknown acts on (index reduction: that row alone would pin x once the force is fixed).
   virtual bool OwnIsDifferential(int /*k*/) const { return false; }
+  // The harmonic law's signal (LawSignal::name, same sign convention) whose value at a time
+  // is own unknown k there, so that a start on an HBM solution carries the law's memory (a
+  // Jenkins slider's force); empty: none, the unknown follows from the start's (x, v).
+  virtual std::string OwnSignal(int /*k*/) const { return {}; }
+  // For a differential own unknown k at `value`: the scale of its perturbations (its unit) when
+  // it is a free component of the state there (a sticking Jenkins force strictly inside ±μN),
+  // so that the monodromy matrix includes it; 0 when the mode fixes it (slip) or none.
+  virtual double OwnStateScale(int /*k*/, double /*value*/) const { return 0.0; }
   // At a (re)initialisation, before consistent values are computed: sets the differential
   // own unknowns that the current mode fixes (a sliding force to exactly ∓μN), so that they
   // do not carry the root location's error into the mode.

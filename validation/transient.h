@@ -94,6 +94,11 @@ struct PeriodRecord {
 struct InitialState {
   Eigen::VectorXd x;
   Eigen::VectorXd v;
+  // The laws' own unknowns (TransientModel::laws in order, TimeLaw::NumOwn each), of which a
+  // start reads only the differential ones: a law's memory (a Jenkins slider's force). Empty:
+  // they start from the momentum rows (a sticking force from the start's displacements). At
+  // the end of IntegratePeriods, every own unknown (empty for a scheme without them).
+  Eigen::VectorXd own = Eigen::VectorXd();
 };
 
 // Work counters of one transient run, summed over the whole run (every re-initialisation of

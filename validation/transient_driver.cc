@@ -160,6 +160,7 @@ StepperStart TransientDriver::StartFrom(const Excitation& excitation, const Init
   begin.excitation = &excitation;
   begin.x = StartValues(start.x, n, "validation.initial_state.x");
   begin.v = StartValues(start.v, n, "validation.initial_state.v");
+  begin.own = start.own;
   begin.samples_per_cycle = options_.samples_per_period;
   deadline_ = Deadline(clock_start, options_.max_seconds);
   begin.deadline = deadline_;
@@ -240,6 +241,7 @@ bool TransientDriver::IntegratePeriods(double omega, const InitialState& start, 
   }
   end->x = stepper_->x();
   end->v = stepper_->v();
+  end->own = stepper_->own();
   return true;
 }
 

@@ -171,6 +171,8 @@ TransientModel MakeTransientModel(const ModelDefinition& model, const std::vecto
   for (size_t i = 0; i < laws.size(); ++i) {
     const std::string path = "nonlinearities[" + std::to_string(i) + "]";
     std::visit([&](const auto& spec) { AddTimeLaw(spec, path, &out); }, laws[i]);
+    // A rigid contact is a constraint, not a law.
+    out.law_sources.resize(out.laws.size(), static_cast<int>(i));
   }
   return out;
 }

@@ -19,6 +19,7 @@ struct TransientModel {
   std::vector<ForcingTerm> forcing;
   std::vector<std::unique_ptr<TimeLaw>> laws;
   std::vector<std::string> law_paths;  // "nonlinearities[i]" of each law, for messages
+  std::vector<int> law_sources;        // i of each law: the harmonic law it stands for
   std::vector<ContactGeometry> rigid_contacts;
   // DOFs with no mass: zero row and column in M (their v is algebraic in the DAE).
   std::vector<bool> massless;

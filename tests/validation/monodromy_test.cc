@@ -18,6 +18,7 @@
 #include "validation/central_difference.h"
 #include "validation/friction_time_law.h"
 #include "validation/ida_integrator.h"
+#include "validation/jenkins_time_law.h"
 #include "validation/spring_time_law.h"
 
 namespace nfrc {
@@ -118,6 +119,48 @@ TEST_CASE("Monodromy: damped linear SDOF gives exp(sT) of the closed-form eigenv
     CHECK(error < kLinearTolerance);
     CHECK(std::abs(r.multipliers[0]) >= std::abs(r.multipliers[1]));
   }
+}
+
+TEST_CASE("Monodromy: a sticking Jenkins slider is a state, with multiplier 1") {
+  // ẍ + 0.1ẋ + x + f = cos ωt, f = k_t(x − w) with k_t = 2 and μN = 1e3, which the orbit never
+  // reaches: the element is the spring k_t and the slider holds at w = 0. Its steady state is
+  // x = Re(X e^{iωt}), X = 1/(k + k_t − ω² + icω), started with f(0) = k_t x(0) (own). The
+  // state is (x, v, f): the linear pair of k + k_t, and 1 for f, since shifting the slider
+  // shifts the orbit (a family of periodic solutions).
+  const double c = 0.1, k = 1.0, k_t = 2.0, omega = 0.8;
+  const Eigen::MatrixXd one = Eigen::MatrixXd::Identity(1, 1);
+  TransientModel model = Linear(one, c * one, k * one, 1.0);
+  model.laws.push_back(std::make_unique<JenkinsTimeLaw>(0, -1, k_t, 1e3));
+  model.law_paths = {"nonlinearities[0]"};
+  model.law_sources = {0};
+  IdaIntegrator ida(model, Options());
+  const Complex amplitude = 1.0 / Complex(k + k_t - omega * omega, c * omega);
+  InitialState z0;
+  z0.x = Eigen::VectorXd::Constant(1, amplitude.real());
+  z0.v = Eigen::VectorXd::Constant(1, (Complex(0, omega) * amplitude).real());
+  z0.own = Eigen::VectorXd::Constant(1, k_t * amplitude.real());
+  const MonodromyResult r = ComputeMonodromy(ida, model, omega, z0);
+  REQUIRE_MESSAGE(r.ok, r.message);
+  CHECK(r.state_own == std::vector<int>{0});
+  REQUIRE(r.multipliers.size() == 3);
+  CHECK(r.closure < 1e-7);  // the closed-form orbit, to IDA's accuracy
+  const double zeta = c / (2.0 * std::sqrt(k + k_t)), omega_n = std::sqrt(k + k_t);
+  const Complex s(-zeta * omega_n, omega_n * std::sqrt(1 - zeta * zeta));
+  const double period = 2 * kPi / omega;
+  const std::vector<Complex> expected = {std::exp(s * period), std::exp(std::conj(s) * period),
+                                         1.0};
+  const double error = SetError(r.multipliers, expected);
+  MESSAGE("Jenkins in stick: μ = " << r.multipliers[0] << ", " << r.multipliers[1] << ", "
+                                   << r.multipliers[2] << ", error " << error);
+  CHECK(error < kLinearTolerance);
+
+  // Started without the slider's force, f(0) follows from the rows (a slider at x(0)): a
+  // different orbit of the family, and f is not a state.
+  z0.own.resize(0);
+  const MonodromyResult without = ComputeMonodromy(ida, model, omega, z0);
+  REQUIRE_MESSAGE(without.ok, without.message);
+  CHECK(without.multipliers.size() == 2);
+  CHECK(without.closure > 1e-2);
 }
 
 TEST_CASE("Monodromy: damped 2-DOF linear system gives exp(sT) of the state matrix") {
