@@ -5,12 +5,14 @@
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 
+#include "analysis/hill_memory.h"
 #include "analysis/hill_solver.h"
 
 namespace nfrc {
@@ -33,6 +35,11 @@ constexpr double kBandFactor = 10.0;
 // are one family (their multipliers agree to 2π·1e-3 ≈ 0.6 %). Distinct physical multipliers
 // closer than that, or a complex pair within 3e-3 rad of the real axis, are reported once.
 constexpr double kSameExponent = 1e-3;
+// With a law's memory the force perturbation jumps where a stick piece ends, its harmonics
+// decay as 1/k, and copies agree less: 1.4e-3·ω between the central copy of a real multiplier
+// and its neighbours on the Fig. 7 Jenkins oscillator at ω = 0.2 (H = 59). Multipliers closer
+// than 2π·5e-3 ≈ 3 % are then reported once.
+constexpr double kSameExponentMemory = 5e-3;
 // A copy whose eigenvector has more than this share of its weight in the top quarter of the
 // harmonics is shaped by the truncation, not by the dynamics: it is not used.
 constexpr double kEdgeLimit = 0.25;
@@ -86,6 +93,59 @@ void AddMapped(const Eigen::MatrixXd& law, const std::vector<Targets>& map, Trip
           const Target& column = columns.entries[static_cast<size_t>(c)];
           triplets->emplace_back(row.index, column.index, row.sign * column.sign * value);
         }
+      }
+    }
+  }
+}
+
+// A law's memory in the full unknowns: one HillMemory per stick piece, its rows at the mapped
+// coefficient-0 row of each force DOF (a DOF block maps to contiguous full indices) and its
+// anchor row δu(θ_a) = Σ c_i φ(θ_a)·x_i over the mapped columns.
+// `linear_rows`: the full model's rows of Δ0, Δ1, Δ2 (row-major), for residual_terms.
+void AddMemory(const LinearizationMemory& law_memory, const NonlinearityContext& ctx,
+               const std::vector<int>& dofs, const HarmonicSet& set,
+               const std::vector<Targets>& map, const std::array<RowMatrix, 3>* linear_rows,
+               std::vector<HillMemory>* out) {
+  const int nc = set.NumCoefficients();
+  std::vector<std::pair<int, double>> rows;
+  for (const auto& [dof_index, row_sign] : law_memory.rows) {
+    const Targets& targets = map[static_cast<size_t>(ctx.DofOffset(dof_index))];
+    for (int r = 0; r < targets.count; ++r) {
+      const Target& target = targets.entries[static_cast<size_t>(r)];
+      rows.emplace_back(target.index, target.sign * row_sign);
+    }
+  }
+  for (const MemoryPiece& piece : law_memory.pieces) {
+    HillMemory& memory = out->emplace_back();
+    memory.piece = piece;
+    memory.stiffness = law_memory.stiffness;
+    memory.rows = rows;
+    const Eigen::VectorXd basis = BasisAt(set, piece.anchor);
+    for (const auto& [dof_index, coefficient] : law_memory.terms) {
+      for (int c = 0; c < nc; ++c) {
+        if (basis(c) == 0.0) continue;
+        const Targets& targets = map[static_cast<size_t>(ctx.DofOffset(dof_index) + c)];
+        for (int r = 0; r < targets.count; ++r) {
+          const Target& target = targets.entries[static_cast<size_t>(r)];
+          memory.anchor[0].emplace_back(target.index, target.sign * coefficient * basis(c));
+        }
+      }
+    }
+    if (law_memory.residual_terms.empty()) continue;
+    assert(linear_rows != nullptr && "residual terms need the linear rows");
+    for (size_t k = 0; k < 3; ++k) {
+      Eigen::VectorXd row = Eigen::VectorXd::Zero((*linear_rows)[k].cols());
+      for (const auto& [dof_index, coefficient] : law_memory.residual_terms) {
+        const int first = dofs[static_cast<size_t>(dof_index)] * nc;
+        for (int c = 0; c < nc; ++c) {
+          if (basis(c) == 0.0) continue;
+          for (RowMatrix::InnerIterator it((*linear_rows)[k], first + c); it; ++it) {
+            row(it.col()) += coefficient * basis(c) * it.value();
+          }
+        }
+      }
+      for (Eigen::Index j = 0; j < row.size(); ++j) {
+        if (row(j) != 0.0) memory.anchor[k].emplace_back(static_cast<int>(j), row(j));
       }
     }
   }
@@ -206,6 +266,7 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // Its rows in row-major order, for laws whose force is predicted from them (DLFT).
   std::optional<std::array<RowMatrix, 3>> linear_rows;
   std::array<Triplets, 3> laws;
+  std::vector<HillMemory> memory;
   const int m = system_.NumUnknowns();
   Eigen::MatrixXd jacobian(m, m), velocity(m, m);
   for (size_t i = 0; i < system_.laws().size(); ++i) {
@@ -216,6 +277,13 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     law.LinearizeForStability(ctx, y, omega, &jacobian, &velocity);
     AddMapped(jacobian, cache.map, &laws[0]);
     AddMapped(velocity, cache.map, &laws[1]);
+    if (const auto law_memory = law.Memory(ctx, y, omega)) {
+      if (!law_memory->residual_terms.empty() && !linear_rows) {
+        linear_rows.emplace(std::array<RowMatrix, 3>{*linear[0], *linear[1], *linear[2]});
+      }
+      AddMemory(*law_memory, ctx, law.Dofs(), system_.harmonic_set(), cache.map,
+                linear_rows ? &*linear_rows : nullptr, &memory);
+    }
     const auto dependence = law.LinearResidualPart(ctx, y, omega);
     if (!dependence) continue;
     if (!linear_rows)
@@ -246,9 +314,27 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
 
   HillPencil pencil = cache.shape;
   pencil.omega = omega;
-  pencil.d0 = d0_linear + FromTriplets(laws[0], size);
-  pencil.d1 = d1_linear + FromTriplets(laws[1], size);
-  pencil.d2 = laws[2].empty() ? cache.mass : cache.mass + FromTriplets(laws[2], size);
+  if (memory.empty()) {
+    pencil.d0 = d0_linear + FromTriplets(laws[0], size);
+    pencil.d1 = d1_linear + FromTriplets(laws[1], size);
+    pencil.d2 = laws[2].empty() ? cache.mass : cache.mass + FromTriplets(laws[2], size);
+    return pencil;
+  }
+  // The memory's unknowns after every other (algebraic: no Δ2). With own unknowns they join
+  // them in the linear solver's Schur complement; without, the solver factorises the whole.
+  int total = size;
+  for (const HillMemory& piece : memory) {
+    total += AddMemoryUnknowns(piece, system_.harmonic_set(), omega, total, &laws);
+  }
+  pencil.memory_unknowns = total - size;
+  auto grown = [total](const Eigen::SparseMatrix<double>& matrix) {
+    Eigen::SparseMatrix<double> result = matrix;
+    result.conservativeResize(total, total);
+    return result;
+  };
+  pencil.d0 = grown(d0_linear) + FromTriplets(laws[0], total);
+  pencil.d1 = grown(d1_linear) + FromTriplets(laws[1], total);
+  pencil.d2 = grown(cache.mass) + FromTriplets(laws[2], total);
   return pencil;
 }
 
@@ -344,6 +430,16 @@ struct Candidate {
   double edge;
 };
 
+// Whether two exponents are one family s + ikω, to `same`·ω.
+bool SameFamily(Complex a, Complex b, double omega, double same) {
+  const Complex d = a - b;
+  return std::abs(d.real()) <= same * omega &&
+         std::abs(std::remainder(d.imag(), omega)) <= same * omega;
+}
+
+// The exponent s folded into |Im s| ≤ ω/2 (copies share μ).
+Complex Folded(Complex s, double omega) { return {s.real(), std::remainder(s.imag(), omega)}; }
+
 // One representative per family (see SolveHill), sorted by decreasing |μ|.
 void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
                     const HillOptions& options, FloquetResult* result) {
@@ -353,19 +449,28 @@ void SelectPhysical(std::vector<Candidate> candidates, const HillPencil& pencil,
   });
   const double omega = pencil.omega;
   std::vector<std::pair<Complex, Complex>> accepted;  // (μ, exponent folded into the strip)
+  const double same = pencil.memory_unknowns > 0 ? kSameExponentMemory : kSameExponent;
   for (const Candidate& c : candidates) {
     // The state has this many exponents: further families are truncation artefacts (they
     // come after the physical ones in centroid order).
     if (static_cast<int>(accepted.size()) == pencil.state_dimension) break;
     if (c.edge > kEdgeLimit) continue;
     // Copies share μ, so the exponent is reported folded into |Im s| ≤ ω/2.
-    const Complex folded(c.exponent.real(), std::remainder(c.exponent.imag(), omega));
+    const Complex folded = Folded(c.exponent, omega);
     const bool copy = std::any_of(accepted.begin(), accepted.end(), [&](const auto& other) {
-      const Complex d = other.second - folded;
-      return std::abs(d.real()) <= kSameExponent * omega &&
-             std::abs(std::remainder(d.imag(), omega)) <= kSameExponent * omega;
+      return SameFamily(other.second, folded, omega, same);
     });
     if (copy) continue;
+    // The system is real: a complex multiplier comes with its conjugate, so both take their
+    // places at once (a pair that does not fit is not physical), and the conjugate's own
+    // copies are then skipped. Without this a truncation artefact further down the centroid
+    // order could take the conjugate's place.
+    const double phase = std::abs(folded.imag());
+    const bool real = phase <= same * omega || phase >= (0.5 - same) * omega;
+    if (!real) {
+      if (static_cast<int>(accepted.size()) + 2 > pencil.state_dimension) continue;
+      accepted.emplace_back(std::conj(std::exp(c.exponent * period)), std::conj(folded));
+    }
     accepted.emplace_back(std::exp(c.exponent * period), folded);
   }
   std::sort(accepted.begin(), accepted.end(),

@@ -3,18 +3,21 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "analysis/harmonic_system.h"
 #include "analysis/stability.h"
 #include "core/harmonic_set.h"
+#include "core/nonlinearity.h"
 
 namespace nfrc {
 
 // Hill's quadratic eigenproblem (Δ0 + sΔ1 + s²Δ2) q = 0 of a periodic solution: the
-// perturbation e^{st} p(θ), p in the solution's harmonic basis. It is posed on the full,
-// uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the laws' own
-// unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
+// perturbation e^{st} p(θ), p in the solution's harmonic basis (and, for a law with memory,
+// its stick pieces' Floquet factor sampled on Chebyshev nodes, analysis/hill_memory.h). It is posed
+// on the full, uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the
+// laws' own unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
 // through Z_red(s + ikω). Rows without mass (own unknowns, massless DOFs) are algebraic.
 struct HillPencil {
   Eigen::SparseMatrix<double> d0, d1, d2;
@@ -29,6 +32,9 @@ struct HillPencil {
   int state_dimension = 0;
   // The laws' own unknowns run from here to the end (-1: there are none).
   int own_offset = -1;
+  // Unknowns of the laws' memory (analysis/hill_memory.h) at the end, after the own
+  // unknowns; own_offset is then where the own unknowns or these start.
+  int memory_unknowns = 0;
 };
 
 // Assembles the pencils of one HarmonicSystem at many points (a trace analyses every one):

@@ -4,6 +4,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/condensation.h"
@@ -58,6 +59,31 @@ struct LinearResidualDependence {
   std::vector<std::pair<int, double>> rows;   // (index into Dofs(), row_sign)
 };
 
+// A stick piece [begin, end] of a hysteretic law, anchored at the turning point where the last
+// slip ended (θ in rad, unwrapped: anchor ≤ begin < end ≤ anchor + 2π).
+struct MemoryPiece {
+  double anchor = 0.0;
+  double begin = 0.0;
+  double end = 0.0;
+};
+
+// The memory of a hysteretic law's linearisation (Jenkins, DLFT friction's slider). On a stick
+// piece the force perturbation is k(δu(t) − δu(t_a)); for Hill's perturbation e^{st}p(θ) the
+// anchor's term carries the factor e^{−s(t − t_a)}, which LinearizeForStability takes as 1
+// (exact for s = 0: folds and branch points). Hill's method restores it (analysis/hill.h).
+struct LinearizationMemory {
+  std::vector<MemoryPiece> pieces;
+  double stiffness = 0.0;  // k (N/m)
+  // δu = Σ c_i δx_{Dofs()[i]}: (index into Dofs(), c_i).
+  std::vector<std::pair<int, double>> terms;
+  // And Σ d_i (A x − b)_{Dofs()[i]} of the condensed linear rows, for a law driven by its
+  // predicted force (DLFT's z = u − (A x − b)/ε): (index into Dofs(), d_i, m/N). Hill's method
+  // takes the full model's s-dependent rows instead (see LinearResidualDependence).
+  std::vector<std::pair<int, double>> residual_terms;
+  // The force acts as +row_sign·f on Dofs()[i]: (index into Dofs(), row_sign).
+  std::vector<std::pair<int, double>> rows;
+};
+
 // A nonlinear law of the harmonic-balance problem (the extension point, like Ceres's
 // CostFunction). It adds its force to the equations of its DOFs and, if it has unknowns of
 // its own (e.g. friction-force coefficients), the equations that close them.
@@ -108,6 +134,13 @@ class Nonlinearity {
   // the condensed linear residual (see LinearResidualDependence). Default: none.
   virtual std::optional<LinearResidualDependence> LinearResidualPart(
       const NonlinearityContext& /*ctx*/, const Eigen::VectorXd& /*y*/, double /*omega*/) const {
+    return std::nullopt;
+  }
+
+  // The memory LinearizeForStability leaves out (see LinearizationMemory). Default: none.
+  virtual std::optional<LinearizationMemory> Memory(const NonlinearityContext& /*ctx*/,
+                                                    const Eigen::VectorXd& /*y*/,
+                                                    double /*omega*/) const {
     return std::nullopt;
   }
 

@@ -27,8 +27,8 @@ namespace nfrc {
 // and diagnostics come from the sampled return mapping on the N_t samples.
 //
 // Hill's method: the force's dependence on the linear residual is LinearResidualPart and the
-// rest is LinearizeForStability's, with the Jenkins element's quasi-static treatment of the
-// stick anchor (exact for the multiplier +1).
+// rest is LinearizeForStability's; the stick pieces' memory (the anchor's Floquet factor, as
+// for the Jenkins element, on z) is Memory's.
 class DlftFriction : public Nonlinearity {
  public:
   // limit: μN (N) ≥ 0; epsilon: N/m, > 0 (the spec resolves its default). other < 0: ground.
@@ -43,6 +43,9 @@ class DlftFriction : public Nonlinearity {
   void LinearizeForStability(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                              Eigen::MatrixXd* jacobian,
                              Eigen::MatrixXd* velocity_jacobian) const override;
+  // The stick pieces of z's return mapping, stiffness ε, on z = u − (A x − b)/ε.
+  std::optional<LinearizationMemory> Memory(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega) const override;
   // The part through λ_u: W = P J E / ε on −(A x − b) of the DOF (or the pair's half rows).
   std::optional<LinearResidualDependence> LinearResidualPart(const NonlinearityContext& ctx,
                                                              const Eigen::VectorXd& y,

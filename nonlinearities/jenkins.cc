@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "nonlinearities/law_spec.h"
 #include "nonlinearities/phase_count.h"
@@ -61,6 +62,24 @@ void Jenkins::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
   }
   // Rate independent: no dependence on ω.
   (void)d_omega;
+}
+
+std::optional<LinearizationMemory> Jenkins::Memory(const NonlinearityContext& ctx,
+                                                   const Eigen::VectorXd& y,
+                                                   double /*omega*/) const {
+  ResolvedSlip slip = ResolveReturnMapping(*ctx.fourier, RelativeCoefficients(ctx, y), stiffness_,
+                                           limit_, /*with_jacobian=*/false);
+  if (slip.stick_pieces.empty()) return std::nullopt;
+  LinearizationMemory memory;
+  memory.pieces = std::move(slip.stick_pieces);
+  memory.stiffness = stiffness_;
+  memory.terms = {{0, 1.0}};
+  memory.rows = {{0, 1.0}};
+  if (other_ >= 0) {
+    memory.terms.emplace_back(1, -1.0);
+    memory.rows.emplace_back(1, -1.0);
+  }
+  return memory;
 }
 
 std::vector<LawSignal> Jenkins::Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,11 +25,9 @@ namespace nfrc {
 // where the last slip ended (f_a = ±μN); on a slip phase f = ±μN. It is exact (continuous
 // across the switches). The law is rate independent: ∂/∂ω = 0.
 //
-// Hill's method sees the same Jacobian (no velocity dependence): the exact linearisation of
-// a stick phase, δf(t) = k_t(δu(t) − δu(t_a)), carries the Floquet factor e^{−s(t−t_a)} on
-// the anchor's term, which is taken as 1. This is exact for s = 0 (folds and branch points,
-// multipliers at +1) and approximate elsewhere; the monodromy matrix of `nfrc validate`
-// gives the exact multipliers.
+// Hill's method sees the same Jacobian (no velocity dependence) and the memory of the stick
+// phases: the exact linearisation of a stick phase, δf(t) = k_t(δu(t) − δu(t_a)), carries the
+// Floquet factor e^{−s(t−t_a)} on the anchor's term (Memory), which Hill's method restores.
 class Jenkins : public Nonlinearity {
  public:
   // stiffness: k_t (N/m), > 0; limit: μN (N), ≥ 0; other < 0: against ground. Throws
@@ -40,6 +39,10 @@ class Jenkins : public Nonlinearity {
   void Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                 Eigen::Ref<Eigen::VectorXd> residual, Eigen::MatrixXd* jacobian,
                 Eigen::VectorXd* d_omega) const override;
+
+  // The resolved stick pieces with their anchors, stiffness k_t, on u = x_dof − x_other.
+  std::optional<LinearizationMemory> Memory(const NonlinearityContext& ctx,
+                                            const Eigen::VectorXd& y, double omega) const override;
 
   // "force" f(t), "displacement" u(t) and "slider" w(t) on the fine grid (the return mapping
   // run on that grid).

@@ -359,6 +359,7 @@ ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::
     const PieceIntegrals integrals(layout, set.max_harmonic(), phase_begin, end);
     const Eigen::VectorXd ones = integrals.Ones();
     if (stick) {
+      result.stick_pieces.push_back({anchor, phase_begin, end});
       // f = f_a + k(u − u_a): ∂f/∂ũ = k(φ − φ(θ_a)).
       const Eigen::MatrixXd products = integrals.Products();
       result.force +=

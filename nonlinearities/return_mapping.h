@@ -5,6 +5,7 @@
 
 #include "core/fourier_transform.h"
 #include "core/harmonic_set.h"
+#include "core/nonlinearity.h"
 #include "nonlinearities/phase_count.h"
 
 namespace nfrc {
@@ -60,6 +61,9 @@ struct ResolvedSlip {
   Eigen::VectorXd force;     // f̃ (N), the exact Galerkin coefficients of f(θ) in the input's set
   Eigen::MatrixXd jacobian;  // ∂f̃/∂ũ (N/m); empty if not asked for
   int switches = 0;          // stick/slip switches over the period
+  // The stick pieces and their anchors (θ in rad, unwrapped: anchor ≤ begin < end ≤ anchor +
+  // 2π), for Hill's method (Nonlinearity::Memory); empty without slip.
+  std::vector<MemoryPiece> stick_pieces;
 };
 
 // `input`: ũ in fourier's harmonic set; its samples (and those of u' and u'') bracket the

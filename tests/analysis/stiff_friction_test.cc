@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/trace.h"
@@ -14,6 +15,11 @@
 
 namespace nfrc {
 namespace {
+
+// The largest |μ| along the N = 10 curve (0.9617, near the resonance, where the curve is
+// smooth): the stiff laws' and Coulomb's differ by the laws' own difference (k_t, ε = 1e4
+// against a rigid stick, ~1e-4 in the peak) and Hill's truncation; 1e-3 leaves margin.
+constexpr double kLargestModulusAgreement = 1e-3;
 
 // Fig. 7 at N = 10 with `law` in place of coulomb_friction, `harmonics` odd harmonics up to
 // H (N_φ = H + 1 coefficients), stability off (the curves are what is checked).
@@ -110,6 +116,47 @@ TEST_CASE("dlft friction at N_phi = 60: the whole curve and the Coulomb peak") {
   CHECK(HasNote(result, "started from the coarser harmonics' solution"));
   CHECK(std::abs(a.max_abs - b.max_abs) < 0.01 * b.max_abs);
   CHECK(std::abs(a.omega - b.omega) < 0.002 * b.omega);
+}
+
+// Hill's method with the stick pieces' memory (analysis/hill_memory.h) on the hysteretic laws
+// against the equality-based Coulomb law's Hill (own unknowns, no memory): along the whole
+// N = 10 curve every point is stable and the largest |μ| is Coulomb's. With the anchor's
+// Floquet factor taken as 1, 50 of ~1070 points were unstable, with |μ| up to 6.6, and 8
+// Neimark–Sacker points were reported on each curve.
+TEST_CASE("jenkins and dlft friction: Hill with the stick memory, stable as Coulomb's law") {
+  Case coulomb = Fig7Case(Coulomb(), 19, 256);
+  coulomb.stability.enabled = true;
+  auto largest = [](const TraceResult& result) {
+    double largest_modulus = 0.0;
+    int unstable = 0;
+    for (const TracePoint& point : result.points) {
+      REQUIRE(point.floquet.computed);
+      largest_modulus = std::max(largest_modulus, point.floquet.max_modulus);
+      if (!point.floquet.stable()) ++unstable;
+    }
+    return std::pair{largest_modulus, unstable};
+  };
+  const auto [reference, reference_unstable] = largest(TraceCase(coulomb));
+  REQUIRE(reference_unstable == 0);
+  for (const nlohmann::json& law :
+       {nlohmann::json{
+            {"type", "jenkins"}, {"dof", 1}, {"mu", 0.9}, {"normal_load", 10}, {"stiffness", 1e4}},
+        nlohmann::json{{"type", "dlft_friction"},
+                       {"dof", 1},
+                       {"mu", 0.9},
+                       {"normal_load", 10},
+                       {"epsilon", 1e4}}}) {
+    Case the_case = Fig7Case(law, 19, 256);
+    the_case.stability.enabled = true;
+    const TraceResult result = TraceCase(the_case);
+    const auto [modulus, unstable] = largest(result);
+    MESSAGE(law["type"] << ": " << result.points.size() << " points, " << unstable
+                        << " unstable, largest |mu| " << modulus << " (coulomb_friction "
+                        << reference << "), " << result.bifurcations.size() << " bifurcations");
+    CHECK(unstable == 0);
+    CHECK(result.bifurcations.empty());
+    CHECK(std::abs(modulus - reference) < kLargestModulusAgreement);
+  }
 }
 
 // cases/friction/frc_n10_dlft.json (N = 10, ε = 1e4): near ω = 0.114 the branch turns by more
