@@ -114,6 +114,23 @@ def validation_rows(document, dofs):
     return rows
 
 
+def stability_rows(document):
+    """Per HBM solution: Hill's and the transient monodromy's largest |μ|, the largest distance
+    from a multiplier of either to the nearest of the other, and the monodromy's closure."""
+    rows = []
+    for point in document.get("points", []):
+        for solution in point.get("hbm_solutions", []):
+            hill, monodromy = solution.get("hill") or {}, solution.get("monodromy") or {}
+            a = [complex(*m) for m in hill.get("multipliers", [])]
+            b = [complex(*m) for m in monodromy.get("multipliers", [])]
+            worst = max([min(abs(x - y) for y in b) for x in a] +
+                        [min(abs(x - y) for y in a) for x in b]) if a and b else None
+            rows.append([fmt(point["omega"], 6), solution.get("branch", "—"),
+                         fmt(hill.get("max_modulus"), 4), fmt(monodromy.get("max_modulus"), 4),
+                         fmt(worst, 2), fmt(monodromy.get("closure"), 2)])
+    return rows
+
+
 def transient_points(document, measure, dof):
     """(ω, measure of the output DOF) of the periodic transients."""
     result = []
@@ -223,7 +240,14 @@ def main():
                   "oscillator, N = 10, k_t = 10 N/m, N_φ = 60; relative differences of h1 of "
                   "x1 and x2 and of the energy):", "",
                   table(["ω", "start", "matches", "status", "h1 x1", "h1 x2", "energy"],
-                        validation_rows(validation, [0, 1])), ""]
+                        validation_rows(validation, [0, 1])), "",
+                  "Stability: Hill's multipliers (with the stick pieces' memory) against the "
+                  "transient monodromy of each HBM solution (started with the slider's force "
+                  "of the HBM solution; closure: how far one period moves that start, relative "
+                  "to the orbit's size):", "",
+                  table(["ω", "solution", "Hill max \\|μ\\|", "monodromy max \\|μ\\|",
+                         "largest multiplier distance", "closure"], stability_rows(validation)),
+                  ""]
     lines += ["## Figures", ""] + [f"![{os.path.basename(f)}]({os.path.relpath(f, REPO)})"
                                     for f in figures if f] + [""]
     if failed:

@@ -114,6 +114,20 @@ def largest_difference(reference, branch, which):
     return worst
 
 
+def stability(document):
+    """Hill's verdicts along the branch: unstable points, bifurcations by type, largest |μ|."""
+    points = [p for p in document["points"] if p.get("stable") is not None]
+    if not points:
+        return ["stability off"] * 3
+    unstable = sum(1 for p in points if not p["stable"])
+    kinds = {}
+    for b in document.get("bifurcations", []):
+        kinds[b["type"]] = kinds.get(b["type"], 0) + 1
+    largest = max(p["floquet"]["max_modulus"] for p in points)
+    return [f"{unstable} of {len(points)}",
+            ", ".join(f"{n} {k}" for k, n in sorted(kinds.items())) or "none", f"{largest:.4f}"]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nfrc", default=os.path.join(REPO, "build", "nfrc"))
@@ -128,12 +142,13 @@ def main():
                for name, case, variant, _ in RUNS}
     print("| run | termination | points | folds | wall time, whole run (s) | engine (s) | "
           "peak max\\|x1\\| at ω | reference peak at ω | Δ peak | Δω | "
-          "max Δ max\\|x1\\| (at ω) | max Δ max\\|x2\\| (at ω) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "max Δ max\\|x1\\| (at ω) | max Δ max\\|x2\\| (at ω) | "
+          "unstable points | bifurcations | largest \\|μ\\| |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, _, _, reference_name in RUNS:
         document = load(out, name)
         if document is None:
-            print(f"| {name} | missing | | | {seconds[name]:.2f} | | | | | | | |")
+            print(f"| {name} | missing | | | {seconds[name]:.2f} | | | | | | | | | | |")
             continue
         summary = document["summary"]
         branch = curve(document)
@@ -152,6 +167,7 @@ def main():
                 worst = largest_difference(ref, branch, which)
                 row.append("not a graph over ω" if worst is None else
                            f"{worst[0]:.4f} ({worst[0] / max(ref[which]):.2%} of the peak) at {worst[1]:.4f}")
+        row += stability(document)
         print("| " + " | ".join(row) + " |")
     draw(out, args.figures)
 
