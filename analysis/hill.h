@@ -30,10 +30,11 @@ struct HillPencil {
   std::vector<int> signal_offsets;
   // Dimension of the physical state (2 per DOF with mass): how many exponents to expect.
   int state_dimension = 0;
-  // The laws' own unknowns run from here to the end (-1: there are none).
+  // The laws' own unknowns (then the memory's, if any) run from here to the end (-1: there are
+  // no own unknowns).
   int own_offset = -1;
-  // Unknowns of the laws' memory (analysis/hill_memory.h) at the end, after the own
-  // unknowns; own_offset is then where the own unknowns or these start.
+  // Unknowns of the laws' memory (analysis/hill_memory.h), the last ones, after the own
+  // unknowns (own_offset does not count them: it stays -1 without own unknowns).
   int memory_unknowns = 0;
 };
 
