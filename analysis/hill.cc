@@ -120,7 +120,7 @@ void AddMemory(const LinearizationMemory& law_memory, const NonlinearityContext&
     memory.piece = piece;
     memory.stiffness = law_memory.stiffness;
     memory.rows = rows;
-    const Eigen::VectorXd basis = BasisAt(set, piece.anchor);
+    const Eigen::VectorXd basis = set.Basis(piece.anchor);
     for (const auto& [dof_index, coefficient] : law_memory.terms) {
       for (int c = 0; c < nc; ++c) {
         if (basis(c) == 0.0) continue;

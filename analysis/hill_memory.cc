@@ -49,27 +49,6 @@ const GaussRule& GaussLegendre(int n) {
   return found->second;
 }
 
-// BasisAt by the angle-addition recurrence (one sincos per point, not one per harmonic).
-void BasisInto(const HarmonicSet& set, double theta, Eigen::VectorXd* basis) {
-  const double c1 = std::cos(theta), s1 = std::sin(theta);
-  double c = 1.0, s = 0.0;  // cos kθ, sin kθ for k = 0, 1, ...
-  int k = 0;
-  for (int p = 0; p < set.num_harmonics(); ++p) {
-    const int harmonic = set.harmonics()[static_cast<size_t>(p)];
-    for (; k < harmonic; ++k) {
-      const double next_c = c * c1 - s * s1;
-      s = s * c1 + c * s1;
-      c = next_c;
-    }
-    if (harmonic == 0) {
-      (*basis)(set.CosIndex(p)) = 1.0;
-    } else {
-      (*basis)(set.CosIndex(p)) = c;
-      (*basis)(set.SinIndex(p)) = s;
-    }
-  }
-}
-
 // Chebyshev–Lobatto nodes on [0, length] from φ = 0 (x = 1) and the derivative matrix d/dφ.
 void Chebyshev(int degree, double length, Eigen::VectorXd* nodes, Eigen::MatrixXd* derivative) {
   const int m = degree + 1;
@@ -114,20 +93,6 @@ int MemoryDegree(double phi_end) {
   return std::min(24, 6 + static_cast<int>(std::ceil(6.0 * phi_end)));
 }
 
-Eigen::VectorXd BasisAt(const HarmonicSet& set, double theta) {
-  Eigen::VectorXd basis(set.NumCoefficients());
-  for (int p = 0; p < set.num_harmonics(); ++p) {
-    const int k = set.harmonics()[static_cast<size_t>(p)];
-    if (k == 0) {
-      basis(set.CosIndex(p)) = 1.0;
-    } else {
-      basis(set.CosIndex(p)) = std::cos(k * theta);
-      basis(set.SinIndex(p)) = std::sin(k * theta);
-    }
-  }
-  return basis;
-}
-
 int AddMemoryUnknowns(const HillMemory& memory, const HarmonicSet& set, double omega, int first,
                       std::array<std::vector<Eigen::Triplet<double>>, 3>* d) {
   std::vector<Eigen::Triplet<double>>* d0 = &(*d)[0];
@@ -167,7 +132,7 @@ int AddMemoryUnknowns(const HillMemory& memory, const HarmonicSet& set, double o
   const double half = 0.5 * length, middle = 0.5 * (end + begin);
   for (int g = 0; g < points; ++g) {
     const double phi = middle + half * rule.nodes(g);
-    BasisInto(set, piece.anchor + phi, &basis);
+    set.Basis(piece.anchor + phi, basis);
     samples.col(g) = (half * rule.weights(g)) * basis;
     lagrange.row(g) = Lagrange(nodes, phi).transpose();
   }

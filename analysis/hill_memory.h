@@ -38,9 +38,6 @@ struct HillMemory {
 // e^{zx} on [−1, 1], |z| = |σ|φ_end/2, is ~|z|^{d+1}/(d+1)!/2^d), capped at 24 (φ_end = 2π).
 int MemoryDegree(double phi_end);
 
-// The set's basis functions at θ (1 for the constant, cos kθ and sin kθ).
-Eigen::VectorXd BasisAt(const HarmonicSet& set, double theta);
-
 // Appends the piece's MemoryDegree + 1 unknowns from index `first`: their rows (the boundary
 // and collocation rows) and the correction of the force rows, −k·sign·w_n∫_piece ψ_n (q(φ) −
 // q(0)) dφ, to Δ0, Δ1 and Δ2 (`d`). Returns the number of unknowns added.

@@ -1,6 +1,7 @@
 #include "core/harmonic_set.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +62,27 @@ int HarmonicSet::CosIndex(int position) const {
 int HarmonicSet::SinIndex(int position) const {
   const int cos_index = CosIndex(position);
   return harmonics_[position] == 0 ? cos_index : cos_index + 1;
+}
+
+void HarmonicSet::Basis(double theta, Eigen::Ref<Eigen::VectorXd> basis) const {
+  const double c1 = std::cos(theta), s1 = std::sin(theta);
+  double c = 1.0, s = 0.0;  // cos kθ, sin kθ for k = 0, 1, ...
+  int k = 0;
+  for (int p = 0; p < num_harmonics(); ++p) {
+    for (const int harmonic = harmonics_[static_cast<size_t>(p)]; k < harmonic; ++k) {
+      const double rotated = c * c1 - s * s1;
+      s = s * c1 + c * s1;
+      c = rotated;
+    }
+    basis(CosIndex(p)) = c;
+    if (k > 0) basis(SinIndex(p)) = s;
+  }
+}
+
+Eigen::VectorXd HarmonicSet::Basis(double theta) const {
+  Eigen::VectorXd basis(num_coefficients_);
+  Basis(theta, basis);
+  return basis;
 }
 
 Eigen::VectorXd ChangeHarmonicSet(const Eigen::VectorXd& coefficients, const HarmonicSet& from,

@@ -37,6 +37,11 @@ class HarmonicSet {
   int CosIndex(int position) const;
   int SinIndex(int position) const;
 
+  // The basis functions at θ in this layout (1, then cos kθ and sin kθ), by rotating e^{iθ}:
+  // one sine and cosine in all, rounding ~k·eps. `basis` has NumCoefficients() entries.
+  void Basis(double theta, Eigen::Ref<Eigen::VectorXd> basis) const;
+  Eigen::VectorXd Basis(double theta) const;
+
  private:
   int max_harmonic_;
   bool odd_only_;

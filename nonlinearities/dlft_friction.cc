@@ -106,21 +106,13 @@ std::optional<LinearResidualDependence> DlftFriction::LinearResidualPart(
 std::optional<LinearizationMemory> DlftFriction::Memory(const NonlinearityContext& ctx,
                                                         const Eigen::VectorXd& y,
                                                         double omega) const {
-  Prediction p = Predict(ctx, y, omega, true, false);
-  if (p.resolved.stick_pieces.empty()) return std::nullopt;
-  LinearizationMemory memory;
-  memory.pieces = std::move(p.resolved.stick_pieces);
-  memory.stiffness = epsilon_;
+  std::optional<LinearizationMemory> memory =
+      SliderMemory(std::move(Predict(ctx, y, omega, true, false).resolved), epsilon_, other_ >= 0);
+  if (!memory) return std::nullopt;
   // z = u − (A x − b)/ε, with the pair's half-difference rows (PredictedForceDependence).
-  memory.terms = {{0, 1.0}};
-  memory.rows = {{0, 1.0}};
-  if (other_ >= 0) {
-    memory.terms.emplace_back(1, -1.0);
-    memory.rows.emplace_back(1, -1.0);
-    memory.residual_terms = {{0, -0.5 / epsilon_}, {1, 0.5 / epsilon_}};
-  } else {
-    memory.residual_terms = {{0, -1.0 / epsilon_}};
-  }
+  memory->residual_terms =
+      other_ >= 0 ? std::vector<std::pair<int, double>>{{0, -0.5 / epsilon_}, {1, 0.5 / epsilon_}}
+                  : std::vector<std::pair<int, double>>{{0, -1.0 / epsilon_}};
   return memory;
 }
 

@@ -67,19 +67,9 @@ void Jenkins::Evaluate(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
 std::optional<LinearizationMemory> Jenkins::Memory(const NonlinearityContext& ctx,
                                                    const Eigen::VectorXd& y,
                                                    double /*omega*/) const {
-  ResolvedSlip slip = ResolveReturnMapping(*ctx.fourier, RelativeCoefficients(ctx, y), stiffness_,
-                                           limit_, /*with_jacobian=*/false);
-  if (slip.stick_pieces.empty()) return std::nullopt;
-  LinearizationMemory memory;
-  memory.pieces = std::move(slip.stick_pieces);
-  memory.stiffness = stiffness_;
-  memory.terms = {{0, 1.0}};
-  memory.rows = {{0, 1.0}};
-  if (other_ >= 0) {
-    memory.terms.emplace_back(1, -1.0);
-    memory.rows.emplace_back(1, -1.0);
-  }
-  return memory;
+  return SliderMemory(ResolveReturnMapping(*ctx.fourier, RelativeCoefficients(ctx, y), stiffness_,
+                                           limit_, /*with_jacobian=*/false),
+                      stiffness_, other_ >= 0);
 }
 
 std::vector<LawSignal> Jenkins::Signals(const NonlinearityContext& ctx, const Eigen::VectorXd& y,

@@ -282,21 +282,6 @@ class PieceIntegrals {
   Eigen::VectorXd sin_;  // ∫sin pθ
 };
 
-// The basis functions φ_i(θ) of the set at θ.
-Eigen::RowVectorXd Basis(const Layout& layout, double theta) {
-  Eigen::RowVectorXd result(layout.num_coefficients);
-  for (size_t p = 0; p < layout.harmonic.size(); ++p) {
-    const int k = layout.harmonic[p];
-    if (k == 0) {
-      result(layout.cos_index[p]) = 1.0;
-    } else {
-      result(layout.cos_index[p]) = std::cos(k * theta);
-      result(layout.sin_index[p]) = std::sin(k * theta);
-    }
-  }
-  return result;
-}
-
 }  // namespace
 
 ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::VectorXd& input,
@@ -334,10 +319,10 @@ ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::
       const int c0 = set.CosIndex(0);
       if (u_max - r > 0.0) {
         result.force(c0) -= stiffness * (u_max - r);
-        if (with_jacobian) result.jacobian.row(c0) -= stiffness * Basis(layout, theta_max);
+        if (with_jacobian) result.jacobian.row(c0) -= stiffness * set.Basis(theta_max).transpose();
       } else if (u_min + r < 0.0) {
         result.force(c0) -= stiffness * (u_min + r);
-        if (with_jacobian) result.jacobian.row(c0) -= stiffness * Basis(layout, theta_min);
+        if (with_jacobian) result.jacobian.row(c0) -= stiffness * set.Basis(theta_min).transpose();
       }
     }
     return result;
@@ -364,7 +349,8 @@ ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::
       const Eigen::MatrixXd products = integrals.Products();
       result.force +=
           (anchor_force - stiffness * anchor_value) * ones + stiffness * products * input;
-      if (with_jacobian) result.jacobian += stiffness * (products - ones * Basis(layout, anchor));
+      if (with_jacobian)
+        result.jacobian += stiffness * (products - ones * set.Basis(anchor).transpose());
     } else {
       result.force += slip_force * ones;
     }
@@ -398,6 +384,20 @@ ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::
   }
   add_phase(turning[static_cast<size_t>(start)] + kTwoPi, true, 0.0);
   return result;
+}
+
+std::optional<LinearizationMemory> SliderMemory(ResolvedSlip slip, double stiffness, bool pair) {
+  if (slip.stick_pieces.empty()) return std::nullopt;
+  LinearizationMemory memory;
+  memory.pieces = std::move(slip.stick_pieces);
+  memory.stiffness = stiffness;
+  memory.terms = {{0, 1.0}};
+  memory.rows = {{0, 1.0}};
+  if (pair) {
+    memory.terms.emplace_back(1, -1.0);
+    memory.rows.emplace_back(1, -1.0);
+  }
+  return memory;
 }
 
 PhaseCount StickPhases(const HarmonicSet& set, const SlipHistory& history) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <optional>
 #include <vector>
 
 #include "core/fourier_transform.h"
@@ -71,5 +72,10 @@ struct ResolvedSlip {
 // Jacobian is left empty (a residual-only evaluation).
 ResolvedSlip ResolveReturnMapping(const FourierTransform& fourier, const Eigen::VectorXd& input,
                                   double stiffness, double limit, bool with_jacobian = true);
+
+// The memory of a slider law for Hill's method (Nonlinearity::Memory): the resolved stick
+// pieces with stiffness k, on u = x_dof − x_other (`pair`) or x_dof, the force +f on `dof` and
+// −f on `other`. None without stick pieces (no slip, or no stick).
+std::optional<LinearizationMemory> SliderMemory(ResolvedSlip slip, double stiffness, bool pair);
 
 }  // namespace nfrc

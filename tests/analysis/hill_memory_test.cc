@@ -54,7 +54,7 @@ Eigen::MatrixXcd Correction(const HarmonicSet& set, const MemoryPiece& piece, do
   memory.piece = piece;
   memory.stiffness = stiffness;
   memory.rows = {{0, 1.0}};
-  const Eigen::VectorXd basis = BasisAt(set, piece.anchor);
+  const Eigen::VectorXd basis = set.Basis(piece.anchor);
   for (int c = 0; c < nc; ++c) memory.anchor[0].emplace_back(c, basis(c));
   std::array<std::vector<Eigen::Triplet<double>>, 3> d;
   const int m = AddMemoryUnknowns(memory, set, omega, nc, &d);
@@ -87,7 +87,7 @@ TEST_CASE("Hill memory: the collocated Floquet factor gives the closed-form forc
         const Eigen::MatrixXcd discretised = Correction(set, piece, omega, stiffness, s);
         // Exact: −k·g_n(s)·φ(θ_a)ᵀp.
         const Eigen::MatrixXcd exact = -stiffness * ClosedForm(set, piece, omega, s) *
-                                       BasisAt(set, piece.anchor).transpose().cast<Complex>();
+                                       set.Basis(piece.anchor).transpose().cast<Complex>();
         const double error =
             (discretised - exact).cwiseAbs().maxCoeff() / exact.cwiseAbs().maxCoeff();
         MESSAGE("piece [" << piece.begin << ", " << piece.end << "] from " << piece.anchor

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,26 @@ void CheckInvalid(F f, const std::string& field) {
     FAIL("expected std::invalid_argument naming " << field);
   } catch (const std::invalid_argument& e) {
     CHECK_MESSAGE(std::string(e.what()).find(field) != std::string::npos, e.what());
+  }
+}
+
+// The rotation that gives the basis accumulates ~k·eps of rounding per harmonic: 1e-12 covers
+// k = 199 with margin.
+constexpr double kBasisTolerance = 1e-12;
+
+TEST_CASE("HarmonicSet basis at theta is 1, cos k theta, sin k theta in the layout") {
+  for (const HarmonicSet& set : {HarmonicSet(199, false), HarmonicSet(59, true)}) {
+    for (const double theta : {0.0, 0.37, 2.9, -4.1, 11.5}) {
+      const Eigen::VectorXd basis = set.Basis(theta);
+      REQUIRE(basis.size() == set.NumCoefficients());
+      for (int p = 0; p < set.num_harmonics(); ++p) {
+        const int k = set.harmonics()[static_cast<size_t>(p)];
+        CAPTURE(k);
+        CAPTURE(theta);
+        CHECK(std::abs(basis(set.CosIndex(p)) - std::cos(k * theta)) < kBasisTolerance);
+        if (k > 0) CHECK(std::abs(basis(set.SinIndex(p)) - std::sin(k * theta)) < kBasisTolerance);
+      }
+    }
   }
 }
 
