@@ -81,6 +81,7 @@ nlohmann::json MonodromyJson(const MonodromyResult& m) {
           {"multipliers", ComplexListToJson(m.multipliers)},
           {"max_modulus", m.max_modulus()},
           {"closure", m.closure},
+          {"state_own", m.state_own},
           {"integrations", m.integrations},
           {"wall_seconds", m.wall_seconds}};
 }

@@ -65,10 +65,10 @@ py::dict PointDict(const ValidationPoint& point) {
       solution["hill"] = stability.hill.computed ? py::cast(stability.hill) : py::none();
       if (stability.monodromy) {
         const MonodromyResult& mono = *stability.monodromy;
-        solution["monodromy"] =
-            py::dict("ok"_a = mono.ok, "message"_a = mono.message,
-                     "multipliers"_a = mono.multipliers, "max_modulus"_a = mono.max_modulus(),
-                     "closure"_a = mono.closure, "integrations"_a = mono.integrations);
+        solution["monodromy"] = py::dict(
+            "ok"_a = mono.ok, "message"_a = mono.message, "multipliers"_a = mono.multipliers,
+            "max_modulus"_a = mono.max_modulus(), "closure"_a = mono.closure,
+            "state_own"_a = mono.state_own, "integrations"_a = mono.integrations);
       } else {
         solution["monodromy"] = py::none();
       }
