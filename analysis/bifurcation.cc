@@ -63,7 +63,7 @@ FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega) 
   hill.unstable_tolerance = options_.unstable_tolerance;
   try {
     if (!hill_) hill_ = std::make_unique<HillAssembler>(system_);
-    return SolveHill(hill_->Assemble(y, omega), hill);
+    return SolveHill(hill_->Assemble(y, omega), hill, &krylov_start_);
   } catch (const std::runtime_error& error) {
     FloquetResult failed;
     failed.method = "hill";

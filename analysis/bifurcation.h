@@ -39,6 +39,8 @@ class StabilityMonitor {
  private:
   HarmonicSystem& system_;
   std::unique_ptr<HillAssembler> hill_;  // made at the first analysis (it holds Δ's parts)
+  // Arnoldi's start for the next analysis: the last one's Ritz vectors (SolveHill).
+  Eigen::VectorXd krylov_start_;
   const StabilityOptions& options_;
   const ContinuationOptions& continuation_;
 };

@@ -506,7 +506,8 @@ void AddCandidates(const Eigen::VectorXcd& nu, const Eigen::MatrixXcd& vectors, 
 
 }  // namespace
 
-FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
+FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options,
+                        Eigen::VectorXd* krylov_start) {
   const auto start = std::chrono::steady_clock::now();
   FloquetResult result;
   result.method = "hill";
@@ -530,6 +531,7 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
       op->perform_op(unit.data(), matrix.col(j).data());
       unit(j) = 0.0;
     }
+    result.operator_applications = size;
     Eigen::EigenSolver<Eigen::MatrixXd> solver(matrix, true);
     if (solver.info() != Eigen::Success) {
       result.message = "dense eigensolver failed";
@@ -541,12 +543,25 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options) {
     const int nev = std::min(size - 3, pencil.state_dimension + 6);
     const int ncv = std::min(size, nev + std::max(20, nev / 2));
     Spectra::GenEigsRealShiftSolver<ShiftInvertOperator> eigs(*op, nev, ncv, sigma);
-    eigs.init();
+    const bool warm = krylov_start != nullptr && krylov_start->size() == size &&
+                      krylov_start->allFinite() && krylov_start->norm() > 0.0;
+    if (warm) {
+      eigs.init(krylov_start->data());
+    } else {
+      eigs.init();
+    }
     // Ritz values to 1e-8 relative: exponents two orders below unstable_tolerance's 1e-6.
     eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-8);
+    result.operator_applications = static_cast<int>(eigs.num_operations());
     if (eigs.info() != Spectra::CompInfo::Successful) {
+      if (krylov_start != nullptr) krylov_start->resize(0);
       result.message = "Arnoldi did not converge";
       return result;
+    }
+    if (krylov_start != nullptr) {
+      // Real and imaginary parts: the real operator's invariant subspace of a complex pair.
+      const Eigen::MatrixXcd ritz = eigs.eigenvectors();
+      *krylov_start = ritz.real().rowwise().sum() + ritz.imag().rowwise().sum();
     }
     // Spectra returns the transformed-back λ = σ + 1/ν; AddCandidates wants ν.
     const Eigen::VectorXcd lambda = eigs.eigenvalues();

@@ -23,8 +23,17 @@ void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n) {
   }
 }
 
+int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
+  int sign = static_cast<int>(lu.permutationP().determinant());
+  const auto pivots = lu.matrixLU().diagonal();
+  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
+    if (pivots(i) < 0.0) sign = -sign;
+  }
+  return sign;
+}
+
 bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-                      const EliminationBlocks& blocks, Eigen::VectorXd* x) {
+                      const EliminationBlocks& blocks, Eigen::VectorXd* x, int* determinant_sign) {
   const int size = static_cast<int>(a.rows());
   std::vector<int> block_of(static_cast<size_t>(size), -1);
   for (size_t k = 0; k < blocks.size(); ++k) {
@@ -38,8 +47,9 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
     const int other = block_of[static_cast<size_t>(col)];
     if (other < 0) continue;
     for (int row = 0; row < size; ++row) {
+      if (a(row, col) == 0.0) continue;  // most entries of a block's column: tested first
       const int block = block_of[static_cast<size_t>(row)];
-      if (block >= 0 && other != block && a(row, col) != 0.0) {
+      if (block >= 0 && other != block) {
         throw std::logic_error("SolveEliminating: blocks " + std::to_string(block) + " and " +
                                std::to_string(other) + " are coupled");
       }
@@ -56,6 +66,7 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   std::vector<Eigen::MatrixXd> eliminated(blocks.size());
   Eigen::MatrixXd block_matrix, right;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  int sign = 1;
   for (size_t k = 0; k < blocks.size(); ++k) {
     const std::vector<int>& block = blocks[k];
     const int nb = static_cast<int>(block.size());
@@ -65,6 +76,7 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
     }
     lu.compute(block_matrix);
     if (!RegularForElimination(lu)) return false;
+    sign *= DeterminantSign(lu);
     std::vector<int>& positions = coupled_columns[k];
     for (int j = 0; j < num_rest; ++j) {
       const int column = rest[static_cast<size_t>(j)];
@@ -96,6 +108,7 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
   if (!RegularForElimination(schur_lu)) return false;
+  sign *= DeterminantSign(schur_lu);
   const Eigen::VectorXd rest_solution = schur_lu.solve(schur_rhs);
 
   x->resize(size);
@@ -110,7 +123,9 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
       (*x)(blocks[k][i]) = value;
     }
   }
-  return x->allFinite();
+  if (!x->allFinite()) return false;
+  if (determinant_sign != nullptr) *determinant_sign = sign;
+  return true;
 }
 
 }  // namespace nfrc

@@ -28,7 +28,14 @@ void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n);
 // entering its equations) costs O(rest · block²). False, leaving x unset, where a block or
 // the Schur complement is numerically singular (the caller then factorises `a` whole).
 // Throws std::logic_error if two blocks are coupled in `a` (the problem broke its promise).
+// determinant_sign (optional): the sign of det a, as the product of the blocks' and the Schur
+// complement's (a symmetric reordering leaves it unchanged), set when true is returned.
 bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-                      const EliminationBlocks& blocks, Eigen::VectorXd* x);
+                      const EliminationBlocks& blocks, Eigen::VectorXd* x,
+                      int* determinant_sign = nullptr);
+
+// The sign of the determinant of a partial-pivoting LU's matrix: the pivots' signs and the
+// permutation's parity (the product itself over- or underflows for large matrices).
+int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu);
 
 }  // namespace nfrc

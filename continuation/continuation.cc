@@ -343,6 +343,7 @@ class Continuer {
     point.residual_norm = corrected.residual_norm;
     const std::optional<double> chord_error = plotted.chord_error;
     Accept(std::move(record), point, corrected.u, new_tangent, std::move(plotted.sample));
+    at_point_ = std::move(corrected.linearization);
     if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
@@ -351,8 +352,12 @@ class Continuer {
   // last point's with its tangent (the Jacobian there evaluated again: asked for only at large
   // turns). Undecided (a singular bordered matrix) counts as not reversed.
   bool OrientationReversed(const CorrectorResult& corrected, const Eigen::VectorXd& new_tangent) {
-    Linearization last;
-    if (!evaluator_.Linearize(u_, &last)) return false;
+    if (!at_point_) {
+      Linearization last;
+      if (!evaluator_.Linearize(u_, &last)) return false;
+      at_point_ = std::move(last);
+    }
+    const Linearization& last = *at_point_;
     const double r = settings_.residual_scale;
     const int before = OrientationIndex(last, scaling_, r, scaling_.UnitScaled(tangent_));
     const int after = OrientationIndex(corrected.linearization, scaling_, r, new_tangent);
@@ -527,6 +532,7 @@ class Continuer {
                 std::optional<PlotChordControl::Sample> plot_sample = std::nullopt) {
     const Eigen::VectorXd direction = scaling_.FromScaled(tangent_scaled);
     const Eigen::VectorXd scales_before = scaling_.scales();
+    at_point_.reset();  // the caller that has the linearization at u sets it again
     scaling_.Include(u.head(n()));
     tangent_ = direction / scaling_.Norm(direction);
     u_ = u;
@@ -579,6 +585,9 @@ class Continuer {
     double angle;
   };
   std::optional<AngleRejection> angle_rejection_;
+  // The corrector's linearization at u_ when the last accepted step had one: the orientation
+  // test at the next large turn reuses it instead of evaluating the Jacobian there again.
+  std::optional<Linearization> at_point_;
   bool finished_ = false;
   int newton_iterations_ = 0;
   int noise_floor_steps_ = 0;

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "continuation/augmented_system.h"
+#include "continuation/block_elimination.h"
 
 namespace nfrc {
 namespace {
@@ -59,19 +60,26 @@ bool NextTangent(const Linearization& linearization, const Scaling& scaling, dou
 
 int OrientationIndex(const Linearization& linearization, const Scaling& scaling,
                      double residual_scale, const Eigen::VectorXd& tangent_scaled) {
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(
-      AugmentedMatrix(linearization, scaling, residual_scale, tangent_scaled));
-  // The determinant's sign from the pivots' signs and the permutation's parity: the product
-  // itself over- or underflows for large systems.
+  const Eigen::MatrixXd bordered =
+      AugmentedMatrix(linearization, scaling, residual_scale, tangent_scaled);
+  // Through the problem's elimination where it applies (its pivots are then well above
+  // rounding): an LU of the Schur complement instead of the whole matrix.
+  if (linearization.elimination != nullptr && !linearization.elimination->empty()) {
+    Eigen::VectorXd unused;
+    int sign = 0;
+    if (SolveEliminating(bordered, Eigen::VectorXd::Zero(bordered.rows()),
+                         *linearization.elimination, &unused, &sign)) {
+      return sign;
+    }
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(bordered);
   const Eigen::VectorXd pivots = lu.matrixLU().diagonal();
   const double largest = pivots.cwiseAbs().maxCoeff();
   if (!(largest > 0.0) || !std::isfinite(largest)) return 0;
-  int sign = static_cast<int>(lu.permutationP().determinant());
   for (Eigen::Index i = 0; i < pivots.size(); ++i) {
     if (!(std::abs(pivots(i)) > kSingularPivotRatio * largest)) return 0;
-    if (pivots(i) < 0.0) sign = -sign;
   }
-  return sign;
+  return DeterminantSign(lu);
 }
 
 }  // namespace nfrc

@@ -63,6 +63,7 @@
 #include "core/condensation.h"
 #include "models/damping.h"
 #include "models/rod.h"
+#include "tools/allocator.h"
 #include "tools/bench_acceptance.h"
 #include "tools/bench_blade.h"
 #include "tools/bench_common.h"
@@ -515,6 +516,7 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
 
 // usage: nfrc_bench [SECTION ...] [accuracy] runs the numbered sections above (default: all).
 int main(int argc, char** argv) {
+  nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
   bool accuracy = false;
   for (int i = 1; i < argc; ++i) {

@@ -13,6 +13,7 @@
 #include "analysis/event_curve.h"
 #include "analysis/fold_curve.h"
 #include "core/errors.h"
+#include "tools/allocator.h"
 #include "tools/case_file.h"
 #include "tools/case_manifest.h"
 #include "tools/command_line.h"
@@ -495,6 +496,7 @@ int Dispatch(const std::string& command, const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  nfrc::KeepFreedMemoryMapped();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::cout << kUsage;

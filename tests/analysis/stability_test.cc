@@ -86,9 +86,11 @@ TEST_CASE("stability: a jump across the unit circle stops its localisation at ju
         CHECK(std::abs(b.omega - r.omega) <= b.omega_accuracy + r.omega_accuracy);
       }
     } else if (r.converged && !r.discontinuous) {
-      // A smooth crossing never meets the jump test: the same localisation, bit for bit.
+      // A smooth crossing never meets the jump test: the same localisation, to its accuracy
+      // (not bit for bit: Arnoldi starts from the last analysis's Ritz vectors, and the two
+      // traces analysed different points before it).
       ++smooth;
-      CHECK(b.omega == r.omega);
+      CHECK(std::abs(b.omega - r.omega) <= b.omega_accuracy + r.omega_accuracy);
       CHECK_FALSE(b.discontinuous);
     }
   }

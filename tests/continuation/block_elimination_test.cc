@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -44,6 +45,31 @@ TEST_CASE("block elimination: equals the dense solve of a block-structured syste
     const Eigen::VectorXd reference = a.fullPivLu().solve(b);
     CHECK((x - reference).norm() <= kSameSolution * reference.norm());
   }
+}
+
+// The sign of det a through the blocks and the Schur complement (the orientation index of a
+// bordered matrix) against the determinant of a full-pivoting LU, a different factorisation;
+// the matrices are chosen with both signs.
+TEST_CASE("block elimination: the determinant's sign is the whole matrix's") {
+  int negative = 0, positive = 0;
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    for (const auto& [m, rest] : {std::pair{5, 10}, {12, 7}, {1, 3}}) {
+      INFO("seed " << seed << ", " << m << " blocks, " << rest << " other unknowns");
+      EliminationBlocks blocks;
+      Eigen::MatrixXd a = BlockMatrix(m, rest, seed, &blocks);
+      if (seed % 2 == 0) a.row(a.rows() - 1) *= -1.0;  // flips the sign of det a
+      const double determinant = a.fullPivLu().determinant();
+      REQUIRE(std::abs(determinant) > 0.0);
+      Eigen::VectorXd x;
+      int sign = 0;
+      REQUIRE(SolveEliminating(a, Eigen::VectorXd::Ones(a.rows()), blocks, &x, &sign));
+      CHECK(sign == (determinant > 0.0 ? 1 : -1));
+      CHECK(DeterminantSign(a.partialPivLu()) == sign);
+      (sign > 0 ? positive : negative) += 1;
+    }
+  }
+  CHECK(positive > 0);
+  CHECK(negative > 0);
 }
 
 TEST_CASE("block elimination: coupled blocks are a broken promise, singular ones decline") {
