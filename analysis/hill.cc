@@ -553,20 +553,26 @@ FloquetResult SolveHill(const HillPencil& pencil, const HillOptions& options,
     // Ritz values to 1e-8 relative: exponents two orders below unstable_tolerance's 1e-6.
     eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-8);
     result.operator_applications = static_cast<int>(eigs.num_operations());
+    if (warm && eigs.info() != Spectra::CompInfo::Successful) {
+      // The warm start is an economy, never a cause of failure: a random start as without it.
+      eigs.init();
+      eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-8);
+      result.operator_applications += static_cast<int>(eigs.num_operations());
+    }
     if (eigs.info() != Spectra::CompInfo::Successful) {
       if (krylov_start != nullptr) krylov_start->resize(0);
       result.message = "Arnoldi did not converge";
       return result;
     }
+    const Eigen::MatrixXcd ritz = eigs.eigenvectors();
     if (krylov_start != nullptr) {
       // Real and imaginary parts: the real operator's invariant subspace of a complex pair.
-      const Eigen::MatrixXcd ritz = eigs.eigenvectors();
       *krylov_start = ritz.real().rowwise().sum() + ritz.imag().rowwise().sum();
     }
     // Spectra returns the transformed-back λ = σ + 1/ν; AddCandidates wants ν.
     const Eigen::VectorXcd lambda = eigs.eigenvalues();
     const Eigen::VectorXcd nu = (lambda.array() - sigma).inverse();
-    AddCandidates(nu, eigs.eigenvectors(), sigma, pencil, &candidates);
+    AddCandidates(nu, ritz, sigma, pencil, &candidates);
   }
   SelectPhysical(std::move(candidates), pencil, options, &result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
