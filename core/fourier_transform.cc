@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nfrc {
@@ -78,34 +79,56 @@ void CheckShape(const char* name, Eigen::Index rows, Eigen::Index cols, Eigen::I
 
 FourierTransform::FourierTransform(const HarmonicSet& set)
     : set_(set), fft_(std::make_unique<FftState>(set.num_samples())) {
+  const int n_c = set_.NumCoefficients();
+  derivative_matrix_.setZero(n_c, n_c);
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    if (k == 0) continue;
+    derivative_matrix_(set_.CosIndex(p), set_.SinIndex(p)) = k;
+    derivative_matrix_(set_.SinIndex(p), set_.CosIndex(p)) = -k;
+  }
+}
+
+const FourierTransform::DenseMatrices& FourierTransform::Dense() const {
+  if (dense_) return *dense_;
   const int n_t = set_.num_samples();
   const int n_c = set_.NumCoefficients();
-
-  derivative_matrix_.setZero(n_c, n_c);
-  sample_matrix_.resize(n_t, n_c);
-  projection_matrix_.resize(n_c, n_t);
+  // cos kθ_j and sin kθ_j take only N_t values, at the phase k·j mod N_t (reduced so that the
+  // angle stays in [0, 2π) with full accuracy): tabulated once instead of N_t·n_c calls.
+  std::vector<double> cosine(static_cast<size_t>(n_t)), sine(static_cast<size_t>(n_t));
+  for (int phase = 0; phase < n_t; ++phase) {
+    const double theta = 2.0 * std::numbers::pi * static_cast<double>(phase) / n_t;
+    cosine[static_cast<size_t>(phase)] = std::cos(theta);
+    sine[static_cast<size_t>(phase)] = std::sin(theta);
+  }
+  auto dense = std::make_unique<DenseMatrices>();
+  Eigen::MatrixXd& sample = dense->sample;
+  Eigen::MatrixXd& projection = dense->projection;
+  sample.resize(n_t, n_c);
+  projection.resize(n_c, n_t);
   for (int p = 0; p < set_.num_harmonics(); ++p) {
     const int k = set_.harmonics()[p];
     const int ic = set_.CosIndex(p);
     const int is = set_.SinIndex(p);
     if (k == 0) {
-      sample_matrix_.col(ic).setOnes();
-      projection_matrix_.row(ic).setConstant(1.0 / n_t);
+      sample.col(ic).setOnes();
+      projection.row(ic).setConstant(1.0 / n_t);
       continue;
     }
-    derivative_matrix_(ic, is) = k;
-    derivative_matrix_(is, ic) = -k;
     for (int j = 0; j < n_t; ++j) {
-      // Reduce k·j modulo N_t so the angle stays in [0, 2π) and keeps full accuracy.
-      const long long phase = (static_cast<long long>(k) * j) % n_t;
-      const double theta = 2.0 * std::numbers::pi * static_cast<double>(phase) / n_t;
-      sample_matrix_(j, ic) = std::cos(theta);
-      sample_matrix_(j, is) = std::sin(theta);
+      const auto phase = static_cast<size_t>((static_cast<long long>(k) * j) % n_t);
+      sample(j, ic) = cosine[phase];
+      sample(j, is) = sine[phase];
     }
-    projection_matrix_.row(ic) = (2.0 / n_t) * sample_matrix_.col(ic).transpose();
-    projection_matrix_.row(is) = (2.0 / n_t) * sample_matrix_.col(is).transpose();
+    projection.row(ic) = (2.0 / n_t) * sample.col(ic).transpose();
+    projection.row(is) = (2.0 / n_t) * sample.col(is).transpose();
   }
+  dense_ = std::move(dense);
+  return *dense_;
 }
+
+const Eigen::MatrixXd& FourierTransform::SampleMatrix() const { return Dense().sample; }
+const Eigen::MatrixXd& FourierTransform::ProjectionMatrix() const { return Dense().projection; }
 
 FourierTransform::~FourierTransform() = default;
 FourierTransform::FourierTransform(FourierTransform&&) noexcept = default;

@@ -42,9 +42,10 @@ class FourierTransform {
 
   // Dense equivalents for assembling Jacobians: samples = E·c (N_t × n_c) and
   // c = P·samples (n_c × N_t), with P·E = I. A nonlinearity f(x) sampled in time has
-  // ∂(P f(E c))/∂c = P·diag(f'(E c))·E.
-  const Eigen::MatrixXd& SampleMatrix() const { return sample_matrix_; }
-  const Eigen::MatrixXd& ProjectionMatrix() const { return projection_matrix_; }
+  // ∂(P f(E c))/∂c = P·diag(f'(E c))·E. Built at the first call (only the LCP laws use them:
+  // at N_φ = 640 they are 2 × 26 MB and took a quarter of the point's time to fill).
+  const Eigen::MatrixXd& SampleMatrix() const;
+  const Eigen::MatrixXd& ProjectionMatrix() const;
 
   // P·diag(weights)·E for samples `weights` (size N_t): the Jacobian block of a sampled law
   // with pointwise derivative `weights`. Assembled from the discrete Fourier coefficients of
@@ -56,8 +57,12 @@ class FourierTransform {
   HarmonicSet set_;
   std::unique_ptr<FftState> fft_;
   Eigen::MatrixXd derivative_matrix_;
-  Eigen::MatrixXd sample_matrix_;
-  Eigen::MatrixXd projection_matrix_;
+  struct DenseMatrices {
+    Eigen::MatrixXd sample, projection;
+  };
+  // E and P once asked for (mutable: filled by the const accessors; the class is per thread).
+  mutable std::unique_ptr<DenseMatrices> dense_;
+  const DenseMatrices& Dense() const;
 };
 
 }  // namespace nfrc

@@ -69,6 +69,7 @@
 #include "tools/bench_common.h"
 #include "tools/bench_studies.h"
 #include "tools/case_file.h"
+#include "tools/lu_calibration.h"
 #include "validation/make_integrator.h"
 
 namespace {
@@ -77,39 +78,6 @@ using nfrc::bench::Clock;
 using nfrc::bench::Median;
 using nfrc::bench::Seconds;
 using nfrc::bench::TimeTraces;
-
-// The calibration unit: one dense LU with partial pivoting of a fixed 320 × 320 matrix, a
-// plain triple loop compiled with the project's flags. Figures divided by it survive a shared,
-// noisy machine better than seconds. Median of 7 (s).
-double LuUnitSeconds() {
-  constexpr int kN = 320;
-  std::vector<double> times;
-  for (int repeat = 0; repeat < 7; ++repeat) {
-    std::vector<double> a(kN * kN);
-    // Fixed, well-conditioned and pivot-demanding: a Hilbert-like part plus a shifted diagonal.
-    for (int i = 0; i < kN; ++i) {
-      for (int j = 0; j < kN; ++j) a[i * kN + j] = 1.0 / (1.0 + i + j) + (i == (j + 7) % kN);
-    }
-    const auto start = Clock::now();
-    for (int k = 0; k < kN; ++k) {
-      int pivot = k;
-      for (int i = k + 1; i < kN; ++i) {
-        if (std::abs(a[i * kN + k]) > std::abs(a[pivot * kN + k])) pivot = i;
-      }
-      if (pivot != k) {
-        for (int j = 0; j < kN; ++j) std::swap(a[k * kN + j], a[pivot * kN + j]);
-      }
-      for (int i = k + 1; i < kN; ++i) {
-        const double factor = a[i * kN + k] / a[k * kN + k];
-        a[i * kN + k] = factor;
-        for (int j = k + 1; j < kN; ++j) a[i * kN + j] -= factor * a[k * kN + j];
-      }
-    }
-    times.push_back(Seconds(start));
-    if (!std::isfinite(a[kN * kN - 1])) std::abort();  // keeps the loop from being elided
-  }
-  return Median(times);
-}
 
 double g_lu_unit = 0.0;  // s, set once at start
 
@@ -530,7 +498,7 @@ int main(int argc, char** argv) {
     return sections.empty() ||
            std::find(sections.begin(), sections.end(), section) != sections.end();
   };
-  g_lu_unit = LuUnitSeconds();
+  g_lu_unit = nfrc::bench::LuUnitSeconds();
   std::printf("calibration: one LU(320) = %.3f ms on this machine now\n", 1e3 * g_lu_unit);
   if (run(1)) BenchCase("duffing.json", 5);
   if (run(2)) BenchCase("friction/frc_n10.json", 3);
@@ -557,7 +525,7 @@ int main(int argc, char** argv) {
     BenchStability("rod/rigid_nh20.json", 0, 0);
     BenchStability("rod/flexible_4krod.json", 0, 0);
   }
-  if (run(9)) nfrc::bench::BenchAcceptance(LuUnitSeconds, accuracy);
+  if (run(9)) nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy);
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);

@@ -146,12 +146,22 @@ kill "$holder" 2>/dev/null
 # Signals: SIGHUP stops a run and SIGTERM a refinement (a background job of a script starts
 # with SIGINT ignored, which nfrc leaves so) after the current point: exit 3, the
 # points on disk and a final summary (never left "running").
-stopped() {  # stopped NAME SIGNAL AFTER_SECONDS FILE -- command...
+# AFTER is seconds, or "stderr:TEXT": as soon as the command has written TEXT to stderr (a
+# fixed delay lands in different phases of a run as the code gets faster or the machine slower).
+stopped() {  # stopped NAME SIGNAL AFTER FILE -- command...
   local name=$1 signal=$2 after=$3 file=$4
   shift 5
   "$@" >/dev/null 2>"$work/err_$name" &
   local pid=$!
-  sleep "$after"
+  if [[ $after == stderr:* ]]; then
+    local waited=0
+    until grep -q -- "${after#stderr:}" "$work/err_$name" 2>/dev/null || [ $waited -ge 3000 ]; do
+      sleep 0.01
+      waited=$((waited + 1))
+    done
+  else
+    sleep "$after"
+  fi
   kill -s "$signal" "$pid"
   wait "$pid"
   local got=$?
@@ -165,7 +175,7 @@ stopped() {  # stopped NAME SIGNAL AFTER_SECONDS FILE -- command...
 }
 stopped "run stopped by SIGHUP" HUP 2 "$work/hup/branch.json" -- \
   "$nfrc" run "$src/cases/friction/point_e.json" --out "$work/hup"
-stopped "refine stopped by SIGTERM" TERM 0.5 "$work/int/refinement.json" -- \
+stopped "refine stopped by SIGTERM" TERM "stderr:refine: epsilon" "$work/int/refinement.json" -- \
   "$nfrc" refine "$src/cases/rod/rigid.json#nh40" --omega 63953.9 --epsilon0 1e9 --steps 40 \
   --out "$work/int"
 stopped "sweep stopped by SIGTERM" TERM 1 "$work/sweep/sweep.json" -- \
