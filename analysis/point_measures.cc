@@ -31,10 +31,8 @@ PointAnalyzer::PointAnalyzer(HarmonicSystem& system, std::vector<int> output_dof
 double PeriodEnergy(HarmonicSystem& system, const Eigen::VectorXd& y, double omega) {
   const HarmonicSet& set = system.harmonic_set();
   const Eigen::MatrixXd x = system.AllDofCoefficients(y, omega);
-  // vᵀ = ω D xᵀ by Differentiate, O(n_c) per DOF where the dense product with D is O(n_c²).
-  Eigen::MatrixXd vt(x.cols(), x.rows());
-  system.fourier().Differentiate(x.transpose(), vt);
-  const Eigen::MatrixXd v = omega * vt.transpose();
+  // v = ω x Dᵀ = −ω x D (D is antisymmetric), by column operations instead of a dense product.
+  const Eigen::MatrixXd v = -omega * system.fourier().TimesDerivative(x);
   return MeanQuadraticForm(system.model().mass, v, set) +
          MeanQuadraticForm(system.model().stiffness, x, set);
 }

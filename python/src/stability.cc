@@ -71,6 +71,7 @@ void BindStability(py::module_& m) {
       .def_readonly("max_modulus", &FloquetResult::max_modulus)
       .def_readonly("num_unstable", &FloquetResult::num_unstable)
       .def_readonly("seconds", &FloquetResult::seconds)
+      .def_readonly("operator_applications", &FloquetResult::operator_applications)
       .def_property_readonly("stable", &Stable)
       .def("__repr__", [](const FloquetResult& f) {
         if (!f.computed) return std::string("<nfrc.Floquet not computed>");

@@ -80,6 +80,7 @@ def check_floquet(floquet, stable):
         assert stable is None
         return
     assert isinstance(stable, bool) and stable == (floquet.num_unstable == 0)
+    assert floquet.method != "hill" or floquet.operator_applications > 0
     moduli = [abs(mu) for mu in floquet.multipliers]
     assert moduli == sorted(moduli, reverse=True)
     assert math.isclose(floquet.max_modulus, moduli[0])
