@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "continuation/block_elimination.h"
+
 namespace nfrc {
 namespace {
 
@@ -23,20 +25,25 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
   return a;
 }
 
-bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                  int* determinant_sign) {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
   const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
   if (!(pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff())) return false;
   *x = lu.solve(b);
-  return x->allFinite();
+  if (!x->allFinite()) return false;
+  if (determinant_sign != nullptr) *determinant_sign = DeterminantSign(lu);
+  return true;
 }
 
 bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
-                    const EliminationBlocks* elimination) {
-  if (elimination != nullptr && !elimination->empty() && SolveEliminating(a, b, *elimination, x)) {
+                    const EliminationBlocks* elimination, int* determinant_sign) {
+  if (elimination != nullptr && !elimination->empty() &&
+      SolveEliminating(a, b, *elimination, x, determinant_sign)) {
     return true;
   }
-  if (SolveRegular(a, b, x)) return true;
+  if (SolveRegular(a, b, x, determinant_sign)) return true;
+  if (determinant_sign != nullptr) *determinant_sign = 0;
   Eigen::FullPivLU<Eigen::MatrixXd> full(a);
   *x = full.solve(b);
   return x->allFinite();

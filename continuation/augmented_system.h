@@ -14,14 +14,19 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
                                 double residual_scale, const Eigen::VectorXd& last_row);
 
 // Solves a x = b by a partial-pivoting LU; false if a pivot is at rounding level against the
-// largest (a numerically singular) or x is not finite.
-bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+// largest (a numerically singular) or x is not finite. determinant_sign (optional): the sign
+// of det a, set when true is returned.
+bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                  int* determinant_sign = nullptr);
 
 // Solves a x = b by one partial-pivoting LU of the whole matrix; falls back to a
 // full-pivoting LU when that LU is (numerically) singular. False if x is not finite.
 // With `elimination` (the Jacobian's blocks, whose indices are the same in the augmented
-// matrix), SolveEliminating is tried first.
+// matrix), SolveEliminating is tried first. determinant_sign (optional): the sign of det a
+// from the factorisation that solved (0 after the full-pivoting fallback: a is singular to
+// rounding, its sign undecided).
 bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
-                    const EliminationBlocks* elimination = nullptr);
+                    const EliminationBlocks* elimination = nullptr,
+                    int* determinant_sign = nullptr);
 
 }  // namespace nfrc

@@ -32,16 +32,17 @@ int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   return sign;
 }
 
-bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-                      const EliminationBlocks& blocks, Eigen::VectorXd* x, int* determinant_sign) {
+std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& a,
+                                                         const EliminationBlocks& blocks) {
+  BlockElimination result;
   const int size = static_cast<int>(a.rows());
+  result.size_ = size;
   std::vector<int> block_of(static_cast<size_t>(size), -1);
   for (size_t k = 0; k < blocks.size(); ++k) {
     for (const int i : blocks[k]) block_of[static_cast<size_t>(i)] = static_cast<int>(k);
   }
-  std::vector<int> rest;  // the unknowns kept, ascending: the Schur complement's order
   for (int i = 0; i < size; ++i) {
-    if (block_of[static_cast<size_t>(i)] < 0) rest.push_back(i);
+    if (block_of[static_cast<size_t>(i)] < 0) result.rest_.push_back(i);
   }
   for (int col = 0; col < size; ++col) {  // column-major: down each column
     const int other = block_of[static_cast<size_t>(col)];
@@ -55,76 +56,145 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
       }
     }
   }
-
+  const std::vector<int>& rest = result.rest_;
   const int num_rest = static_cast<int>(rest.size());
-  Eigen::MatrixXd schur = a(rest, rest);
-  Eigen::VectorXd schur_rhs = b(rest);
-  // Per block: the rest positions it couples to (A_B,rest ≠ 0) and A_BB⁻¹ [A_B,coupled  b_B].
-  // Small blocks (a harmonic's two coefficients) are many: the loops below avoid Eigen's
-  // per-call overhead and allocate only these two per block.
-  std::vector<std::vector<int>> coupled_columns(blocks.size());
-  std::vector<Eigen::MatrixXd> eliminated(blocks.size());
-  Eigen::MatrixXd block_matrix, right;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-  int sign = 1;
+  result.blocks_.resize(blocks.size());
   for (size_t k = 0; k < blocks.size(); ++k) {
-    const std::vector<int>& block = blocks[k];
-    const int nb = static_cast<int>(block.size());
-    block_matrix.resize(nb, nb);
+    Block& block = result.blocks_[k];
+    block.unknowns = blocks[k];
+    const int nb = static_cast<int>(block.unknowns.size());
+    block.matrix.resize(nb, nb);
     for (int j = 0; j < nb; ++j) {
-      for (int i = 0; i < nb; ++i) block_matrix(i, j) = a(block[i], block[j]);
+      for (int i = 0; i < nb; ++i) block.matrix(i, j) = a(block.unknowns[i], block.unknowns[j]);
     }
-    lu.compute(block_matrix);
-    if (!RegularForElimination(lu)) return false;
-    sign *= DeterminantSign(lu);
-    std::vector<int>& positions = coupled_columns[k];
+    block.lu.compute(block.matrix);
+    if (!RegularForElimination(block.lu)) return std::nullopt;
+    result.sign_ *= DeterminantSign(block.lu);
     for (int j = 0; j < num_rest; ++j) {
       const int column = rest[static_cast<size_t>(j)];
-      for (const int i : block) {
+      for (const int i : block.unknowns) {
         if (a(i, column) != 0.0) {
-          positions.push_back(j);
+          block.coupled.push_back(j);
           break;
         }
       }
     }
-    const int nc = static_cast<int>(positions.size());
-    right.resize(nb, nc + 1);
+    const int nc = static_cast<int>(block.coupled.size());
+    block.coupling.resize(nb, nc);
     for (int c = 0; c < nc; ++c) {
-      for (int i = 0; i < nb; ++i)
-        right(i, c) = a(block[i], rest[static_cast<size_t>(positions[c])]);
-    }
-    for (int i = 0; i < nb; ++i) right(i, nc) = b(block[i]);
-    eliminated[k] = lu.solve(right);
-    // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike.
-    const Eigen::MatrixXd& e = eliminated[k];
-    for (int i = 0; i < nb; ++i) {
-      for (int r = 0; r < num_rest; ++r) {
-        const double left = a(rest[static_cast<size_t>(r)], block[i]);
-        if (left == 0.0) continue;
-        for (int c = 0; c < nc; ++c) schur(r, positions[c]) -= left * e(i, c);
-        schur_rhs(r) -= left * e(i, nc);
+      for (int i = 0; i < nb; ++i) {
+        block.coupling(i, c) = a(block.unknowns[i], rest[static_cast<size_t>(block.coupled[c])]);
       }
     }
+    // Solved with a last column for b_B, zero here (BlockSolutions solves with it): a
+    // solve's rounding depends on the shape of its right-hand side, and this one's keeps
+    // the solutions bit for bit those of the joint solve [A_B,coupled b_B] that it replaced.
+    Eigen::MatrixXd right = Eigen::MatrixXd::Zero(nb, nc + 1);
+    right.leftCols(nc) = block.coupling;
+    block.eliminated = block.lu.solve(right).leftCols(nc);
   }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
-  if (!RegularForElimination(schur_lu)) return false;
-  sign *= DeterminantSign(schur_lu);
-  const Eigen::VectorXd rest_solution = schur_lu.solve(schur_rhs);
+  return result;
+}
 
-  x->resize(size);
-  (*x)(rest) = rest_solution;
-  for (size_t k = 0; k < blocks.size(); ++k) {
-    const Eigen::MatrixXd& e = eliminated[k];
-    const std::vector<int>& positions = coupled_columns[k];
-    const int nc = static_cast<int>(positions.size());
-    for (int i = 0; i < static_cast<int>(blocks[k].size()); ++i) {
-      double value = e(i, nc);
-      for (int c = 0; c < nc; ++c) value -= e(i, c) * rest_solution(positions[c]);
-      (*x)(blocks[k][i]) = value;
+bool BlockElimination::SameBlockRows(const Eigen::MatrixXd& a) const {
+  if (a.rows() != size_) return false;
+  const int num_rest = static_cast<int>(rest_.size());
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    for (int j = 0; j < nb; ++j) {
+      for (int i = 0; i < nb; ++i) {
+        if (a(block.unknowns[i], block.unknowns[j]) != block.matrix(i, j)) return false;
+      }
+    }
+    size_t next = 0;  // the next coupled column
+    for (int j = 0; j < num_rest; ++j) {
+      const int column = rest_[static_cast<size_t>(j)];
+      const bool coupled = next < block.coupled.size() && block.coupled[next] == j;
+      for (int i = 0; i < nb; ++i) {
+        const double expected = coupled ? block.coupling(i, static_cast<Eigen::Index>(next)) : 0.0;
+        if (a(block.unknowns[i], column) != expected) return false;
+      }
+      if (coupled) ++next;
     }
   }
+  return true;
+}
+
+Eigen::VectorXd BlockElimination::BlockSolutions(const Eigen::VectorXd& b) const {
+  Eigen::VectorXd solutions(size_ - static_cast<int>(rest_.size()));
+  Eigen::Index offset = 0;
+  Eigen::MatrixXd right;
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    const int nc = static_cast<int>(block.coupled.size());
+    right.setZero(nb, nc + 1);  // the shape of Factor's solve (see there)
+    for (int i = 0; i < nb; ++i) right(i, nc) = b(block.unknowns[i]);
+    solutions.segment(offset, nb) = block.lu.solve(right).col(nc);
+    offset += nb;
+  }
+  return solutions;
+}
+
+void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                              const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
+                              Eigen::VectorXd* schur_rhs) const {
+  const int num_rest = static_cast<int>(rest_.size());
+  *schur = a(rest_, rest_);
+  *schur_rhs = b(rest_);
+  Eigen::Index offset = 0;
+  // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike. Small blocks (a
+  // harmonic's two coefficients) are many: plain loops avoid Eigen's per-call overhead.
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    const int nc = static_cast<int>(block.coupled.size());
+    for (int i = 0; i < nb; ++i) {
+      const int unknown = block.unknowns[static_cast<size_t>(i)];
+      const double solution = block_solutions(offset + i);
+      for (int r = 0; r < num_rest; ++r) {
+        const double left = a(rest_[static_cast<size_t>(r)], unknown);
+        if (left == 0.0) continue;
+        for (int c = 0; c < nc; ++c) (*schur)(r, block.coupled[c]) -= left * block.eliminated(i, c);
+        (*schur_rhs)(r) -= left * solution;
+      }
+    }
+    offset += nb;
+  }
+}
+
+void BlockElimination::BackSubstitute(const Eigen::VectorXd& block_solutions,
+                                      const Eigen::VectorXd& rest_solution,
+                                      Eigen::VectorXd* x) const {
+  x->resize(size_);
+  (*x)(rest_) = rest_solution;
+  Eigen::Index offset = 0;
+  for (const Block& block : blocks_) {
+    const int nb = static_cast<int>(block.unknowns.size());
+    const int nc = static_cast<int>(block.coupled.size());
+    for (int i = 0; i < nb; ++i) {
+      double value = block_solutions(offset + i);
+      for (int c = 0; c < nc; ++c)
+        value -= block.eliminated(i, c) * rest_solution(block.coupled[c]);
+      (*x)(block.unknowns[static_cast<size_t>(i)]) = value;
+    }
+    offset += nb;
+  }
+}
+
+bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                      const EliminationBlocks& blocks, Eigen::VectorXd* x, int* determinant_sign) {
+  const std::optional<BlockElimination> elimination = BlockElimination::Factor(a, blocks);
+  if (!elimination) return false;
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd schur_rhs;
+  const Eigen::VectorXd block_solutions = elimination->BlockSolutions(b);
+  elimination->Reduce(a, b, block_solutions, &schur, &schur_rhs);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
+  if (!RegularForElimination(schur_lu)) return false;
+  elimination->BackSubstitute(block_solutions, schur_lu.solve(schur_rhs), x);
   if (!x->allFinite()) return false;
-  if (determinant_sign != nullptr) *determinant_sign = sign;
+  if (determinant_sign != nullptr) {
+    *determinant_sign = elimination->determinant_sign() * DeterminantSign(schur_lu);
+  }
   return true;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <optional>
 #include <vector>
 
 namespace nfrc {
@@ -33,6 +34,48 @@ void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n);
 bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
                       const EliminationBlocks& blocks, Eigen::VectorXd* x,
                       int* determinant_sign = nullptr);
+
+// The blocks' part of SolveEliminating, kept: their LUs and A_BB⁻¹ A_B,rest (only the
+// columns where A_B,rest ≠ 0). It serves any matrix whose blocks' rows (A_BB, A_B,rest)
+// are the same, whatever its other rows (ReusedFactorization: a Newton iteration at fixed λ,
+// where only the laws' rows change).
+class BlockElimination {
+ public:
+  // Nullopt where a block is numerically singular (kMinEliminationPivotRatio). Throws
+  // std::logic_error if two blocks are coupled in `a` (the problem broke its promise).
+  static std::optional<BlockElimination> Factor(const Eigen::MatrixXd& a,
+                                                const EliminationBlocks& blocks);
+
+  // The unknowns kept, ascending: the Schur complement's order.
+  const std::vector<int>& rest() const { return rest_; }
+  // The product of the blocks' determinant signs.
+  int determinant_sign() const { return sign_; }
+  // True when a's blocks' rows are those factorised (bitwise), so that Reduce applies.
+  bool SameBlockRows(const Eigen::MatrixXd& a) const;
+  // A_BB⁻¹ b_B of every block, one after the other (for Reduce and BackSubstitute).
+  Eigen::VectorXd BlockSolutions(const Eigen::VectorXd& b) const;
+  // S = A_rr − A_rB A_BB⁻¹ A_B,rest and its right-hand side b_r − A_rB A_BB⁻¹ b_B.
+  void Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+              const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
+              Eigen::VectorXd* schur_rhs) const;
+  // x from the rest's solution: x_r, and x_B = A_BB⁻¹ b_B − A_BB⁻¹ A_B,rest x_r.
+  void BackSubstitute(const Eigen::VectorXd& block_solutions, const Eigen::VectorXd& rest_solution,
+                      Eigen::VectorXd* x) const;
+
+ private:
+  struct Block {
+    std::vector<int> unknowns;
+    Eigen::MatrixXd matrix;                   // A_BB
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of A_BB
+    std::vector<int> coupled;                 // rest positions with A_B,rest ≠ 0
+    Eigen::MatrixXd coupling;                 // A_B,coupled
+    Eigen::MatrixXd eliminated;               // A_BB⁻¹ A_B,coupled
+  };
+  int size_ = 0;
+  std::vector<int> rest_;
+  std::vector<Block> blocks_;
+  int sign_ = 1;
+};
 
 // The sign of the determinant of a partial-pivoting LU's matrix: the pivots' signs and the
 // permutation's parity (the product itself over- or underflows for large matrices).

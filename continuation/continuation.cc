@@ -222,8 +222,9 @@ class Continuer {
     SeedZeroGroups(start.linearization, &scaling_);
     Eigen::VectorXd tangent_scaled;
     const double direction = options_.lambda_end > options_.lambda_start ? 1.0 : -1.0;
+    int orientation = 0;
     if (!InitialTangent(start.linearization, scaling_, settings_.residual_scale, direction,
-                        &tangent_scaled)) {
+                        &tangent_scaled, &orientation)) {
       Finish(TerminationReason::kStartFailed,
              "no unique tangent at the starting point (rank of [R_y, R_lambda] below n)");
       return false;
@@ -231,7 +232,7 @@ class Continuer {
     BranchPoint point;
     point.newton_iterations = start.iterations;
     point.residual_norm = start.residual_norm;
-    AddPoint(point, start.u, tangent_scaled);
+    AddPoint(point, start.u, tangent_scaled, orientation);
     closure_.emplace(u_, tangent_);
     if (!finished_ && options_.max_points <= 1) {
       Finish(TerminationReason::kMaxPoints, "max_points (1) reached at the first point");
@@ -280,8 +281,9 @@ class Continuer {
     NoteNoiseFloor(corrected, record);
 
     Eigen::VectorXd new_tangent;
+    int orientation = 0;
     if (!NextTangent(corrected.linearization, scaling_, settings_.residual_scale, tangent_scaled,
-                     &new_tangent)) {
+                     &new_tangent, &orientation)) {
       return Reject(std::move(record), "no tangent at the corrected point");
     }
     double angle = TurnAngle(tangent_scaled, new_tangent);
@@ -291,10 +293,11 @@ class Continuer {
     // fold and the branch retraced to lambda_start. The orientation index, invariant across
     // corners, decides at such turns; on smooth turns the two rules agree (they differ only at
     // branch points, where the tangent turns little).
-    const bool reoriented =
-        angle > options_.max_tangent_angle && OrientationReversed(corrected, new_tangent);
+    const bool reoriented = angle > options_.max_tangent_angle &&
+                            OrientationReversed(corrected, new_tangent, &orientation);
     if (reoriented) {
       new_tangent = -new_tangent;
+      orientation = -orientation;
       angle = TurnAngle(tangent_scaled, new_tangent);
       ++reoriented_steps_;
     }
@@ -342,26 +345,31 @@ class Continuer {
     point.newton_iterations = corrected.iterations;
     point.residual_norm = corrected.residual_norm;
     const std::optional<double> chord_error = plotted.chord_error;
-    Accept(std::move(record), point, corrected.u, new_tangent, std::move(plotted.sample));
+    Accept(std::move(record), point, corrected.u, new_tangent, orientation,
+           std::move(plotted.sample));
     at_point_ = std::move(corrected.linearization);
     if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
 
-  // Whether the orientation index at the corrected point with `new_tangent` differs from the
-  // last point's with its tangent (the Jacobian there evaluated again: asked for only at large
-  // turns). Undecided (a singular bordered matrix) counts as not reversed.
-  bool OrientationReversed(const CorrectorResult& corrected, const Eigen::VectorXd& new_tangent) {
-    if (!at_point_) {
-      Linearization last;
-      if (!evaluator_.Linearize(u_, &last)) return false;
-      at_point_ = std::move(last);
-    }
-    const Linearization& last = *at_point_;
+  // Whether the orientation index at the corrected point with `new_tangent` (`*after`, from
+  // NextTangent's factorisation; computed here if undecided there) differs from the last
+  // point's with its tangent (kept from its own tangent's factorisation, else computed from
+  // its linearization, evaluated again if need be). Asked for only at large turns. Undecided
+  // (a singular bordered matrix) counts as not reversed.
+  bool OrientationReversed(const CorrectorResult& corrected, const Eigen::VectorXd& new_tangent,
+                           int* after) {
     const double r = settings_.residual_scale;
-    const int before = OrientationIndex(last, scaling_, r, scaling_.UnitScaled(tangent_));
-    const int after = OrientationIndex(corrected.linearization, scaling_, r, new_tangent);
-    return before != 0 && after != 0 && before != after;
+    if (*after == 0) *after = OrientationIndex(corrected.linearization, scaling_, r, new_tangent);
+    if (orientation_ == 0) {
+      if (!at_point_) {
+        Linearization last;
+        if (!evaluator_.Linearize(u_, &last)) return false;
+        at_point_ = std::move(last);
+      }
+      orientation_ = OrientationIndex(*at_point_, scaling_, r, scaling_.UnitScaled(tangent_));
+    }
+    return orientation_ != 0 && *after != 0 && orientation_ != *after;
   }
 
   // Fallback after a failed corrector: where a nonsmooth branch turns by more than 90° (in
@@ -386,8 +394,9 @@ class Continuer {
     NoteNoiseFloor(solved, record);
     const Eigen::VectorXd secant = scaling_.ToScaled(solved.u - u_).normalized();
     Eigen::VectorXd new_tangent;
-    if (!NextTangent(solved.linearization, scaling_, settings_.residual_scale, secant,
-                     &new_tangent) ||
+    int orientation = 0;
+    if (!NextTangent(solved.linearization, scaling_, settings_.residual_scale, secant, &new_tangent,
+                     &orientation) ||
         new_tangent(n()) * t_lambda <= 0.0) {
       return std::nullopt;
     }
@@ -402,7 +411,7 @@ class Continuer {
     record.note = "natural-parameter step after a failed arclength corrector";
     angle_rejection_.reset();
     const std::optional<double> chord_error = plotted.chord_error;
-    Accept(std::move(record), point, solved.u, new_tangent, std::move(plotted.sample));
+    Accept(std::move(record), point, solved.u, new_tangent, orientation, std::move(plotted.sample));
     if (chord_error) return controller_.AfterPlottedSuccess(h, solved.iterations, *chord_error);
     return controller_.AfterSuccess(h, solved.iterations, 0.0);
   }
@@ -456,12 +465,12 @@ class Continuer {
 
   // Records an accepted step and its point, then checks the stop rules.
   void Accept(StepRecord record, const BranchPoint& point, const Eigen::VectorXd& u,
-              const Eigen::VectorXd& tangent_scaled,
+              const Eigen::VectorXd& tangent_scaled, int orientation,
               std::optional<PlotChordControl::Sample> plot_sample) {
     const Eigen::VectorXd u_previous = u_;
     record.accepted = true;
     branch_.summary.history.push_back(std::move(record));
-    AddPoint(point, u, tangent_scaled, std::move(plot_sample));
+    AddPoint(point, u, tangent_scaled, orientation, std::move(plot_sample));
     if (!finished_ && closure_->Closes(scaling_, u_previous, u_, tangent_)) {
       Finish(
           TerminationReason::kClosedCurve,
@@ -488,11 +497,12 @@ class Continuer {
     newton_iterations_ += landed.iterations;
     record.newton_iterations += landed.iterations;
     Eigen::VectorXd tangent;
+    int orientation = 0;
     if (!landed.converged) {
       return Reject(std::move(record), "landing on the lambda bound failed: " + landed.failure);
     }
     if (!NextTangent(landed.linearization, scaling_, settings_.residual_scale, tangent_scaled,
-                     &tangent)) {
+                     &tangent, &orientation)) {
       return Reject(std::move(record), "no tangent at the lambda bound");
     }
     BranchPoint point;
@@ -501,7 +511,7 @@ class Continuer {
     point.residual_norm = landed.residual_norm;
     record.accepted = true;
     branch_.summary.history.push_back(std::move(record));
-    AddPoint(point, landed.u, tangent);
+    AddPoint(point, landed.u, tangent, orientation);
     Finish(TerminationReason::kReachedLambdaBound,
            "reached " + Describe(options_.lambda_name, bound));
     return step;
@@ -529,10 +539,12 @@ class Continuer {
   // renormalised after the scaling has taken the point in. `plot_sample`: the step's plot
   // sample at u along that tangent, if it took one (else it is taken here).
   void AddPoint(BranchPoint point, const Eigen::VectorXd& u, const Eigen::VectorXd& tangent_scaled,
+                int orientation,
                 std::optional<PlotChordControl::Sample> plot_sample = std::nullopt) {
     const Eigen::VectorXd direction = scaling_.FromScaled(tangent_scaled);
     const Eigen::VectorXd scales_before = scaling_.scales();
     at_point_.reset();  // the caller that has the linearization at u sets it again
+    orientation_ = orientation;
     scaling_.Include(u.head(n()));
     tangent_ = direction / scaling_.Norm(direction);
     u_ = u;
@@ -588,6 +600,9 @@ class Continuer {
   // The corrector's linearization at u_ when the last accepted step had one: the orientation
   // test at the next large turn reuses it instead of evaluating the Jacobian there again.
   std::optional<Linearization> at_point_;
+  // The orientation index of (u_, tangent_), known from the factorisation that gave the
+  // tangent (OrientationIndex: invariant under the scaling's changes); 0 when undecided.
+  int orientation_ = 0;
   bool finished_ = false;
   int newton_iterations_ = 0;
   int noise_floor_steps_ = 0;

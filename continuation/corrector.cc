@@ -1,10 +1,12 @@
 #include "continuation/corrector.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 
 #include "continuation/augmented_system.h"
+#include "continuation/reused_factorization.h"
 
 namespace nfrc {
 namespace {
@@ -57,6 +59,12 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   result.residual_norm = result.linearization.residual.norm();
 
   Linearization trial_linearization;
+  // At fixed λ only the laws' rows change between iterations: their factorisation is reused.
+  std::optional<ReusedFactorization> reused;
+  if (constraint == Constraint::kFixedLambda && result.linearization.elimination != nullptr &&
+      !result.linearization.elimination->empty()) {
+    reused.emplace(*result.linearization.elimination);
+  }
   // The problem's rounding floor of ‖R‖, asked for once, from the second iteration on.
   double noise = -1.0;
   // Merit before a watchdog step and the iteration by which it must be beaten.
@@ -68,10 +76,15 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     rhs.head(n) = -result.linearization.residual / r;
     rhs(n) = -constraint_residual(result.u);
     Eigen::VectorXd step_scaled;
-    if (!SolveAugmented(AugmentedMatrix(result.linearization, scaling, r, row), rhs, &step_scaled,
-                        result.linearization.elimination.get())) {
+    Eigen::MatrixXd augmented = AugmentedMatrix(result.linearization, scaling, r, row);
+    // At fixed λ the last row gives Δλ = 0, so R_λ's column acts on nothing; zero, it is one
+    // change less between iterations for the reused factorisation.
+    if (constraint == Constraint::kFixedLambda) augmented.topRightCorner(n, 1).setZero();
+    if (!(reused && reused->Solve(augmented, rhs, &step_scaled)) &&
+        !SolveAugmented(augmented, rhs, &step_scaled, result.linearization.elimination.get())) {
       return Fail(std::move(result), "augmented system not solvable");
     }
+    if (reused) result.low_rank_updates = reused->counts().updates;
     result.iterations = iteration;
     if (constraint == Constraint::kFixedLambda) step_scaled(n) = 0.0;
     const double update_norm = step_scaled.norm();

@@ -21,7 +21,9 @@ struct CorrectorResult {
   Eigen::VectorXd u;            // last iterate (y, λ)
   Linearization linearization;  // R and its Jacobians at u
   int iterations = 0;           // linear solves done
-  double residual_norm = 0.0;   // ‖R(u)‖, unscaled
+  // Of those, solved by a low-rank update of an earlier LU (fixed λ: ReusedFactorization).
+  int low_rank_updates = 0;
+  double residual_norm = 0.0;  // ‖R(u)‖, unscaled
   // Converged above residual_tolerance, within kNoiseFactor of the problem's estimate of
   // the residual's rounding floor (ContinuationProblem::ResidualNoise), which is recorded.
   bool at_noise_floor = false;

@@ -18,22 +18,29 @@ constexpr double kSingularPivotRatio = 1e2 * std::numeric_limits<double>::epsilo
 }  // namespace
 
 bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
-                    double residual_scale, double lambda_direction,
-                    Eigen::VectorXd* tangent_scaled) {
+                    double residual_scale, double lambda_direction, Eigen::VectorXd* tangent_scaled,
+                    int* orientation) {
   const int n = scaling.num_unknowns();
   const Eigen::MatrixXd bordered =
       AugmentedMatrix(linearization, scaling, residual_scale, Eigen::VectorXd::Unit(n + 1, n));
   // Away from a fold the border Δλ = 1 gives the tangent by one (eliminating) LU; the QR
   // below costs several LUs and forming Q.
   Eigen::VectorXd solution;
+  int sign = 0;
   if (SolveAugmented(bordered, Eigen::VectorXd::Unit(n + 1, n), &solution,
-                     linearization.elimination.get())) {
+                     linearization.elimination.get(), &sign)) {
     const double scale = bordered.topRows(n).norm() * solution.norm();
     if (scale > 0.0 && (bordered.topRows(n) * solution).norm() <= kNullResidual * scale) {
-      *tangent_scaled = solution.normalized() * (lambda_direction < 0.0 ? -1.0 : 1.0);
-      if (tangent_scaled->allFinite()) return true;
+      const double direction = lambda_direction < 0.0 ? -1.0 : 1.0;
+      *tangent_scaled = solution.normalized() * direction;
+      if (tangent_scaled->allFinite()) {
+        // The border eₙ replaced by τ = ±s/‖s‖ (NextTangent): det scales by ±‖s‖.
+        if (orientation != nullptr) *orientation = direction < 0.0 ? -sign : sign;
+        return true;
+      }
     }
   }
+  if (orientation != nullptr) *orientation = 0;
   // The last column of Q in Jᵀ = QR is orthogonal to the row space of J.
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(bordered.topRows(n).transpose());
   if (qr.rank() != n) return false;
@@ -43,14 +50,17 @@ bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
 }
 
 bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
-                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled) {
+                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
+                 int* orientation) {
   const int n = scaling.num_unknowns();
   Eigen::VectorXd solution;
+  int sign = 0;
   if (!SolveAugmented(AugmentedMatrix(linearization, scaling, residual_scale, previous_scaled),
-                      Eigen::VectorXd::Unit(n + 1, n), &solution,
-                      linearization.elimination.get())) {
+                      Eigen::VectorXd::Unit(n + 1, n), &solution, linearization.elimination.get(),
+                      &sign)) {
     return false;
   }
+  if (orientation != nullptr) *orientation = sign;
   const double norm = solution.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return false;
   *tangent_scaled = solution / norm;

@@ -13,15 +13,21 @@ namespace nfrc {
 // Tangent at the first point: the null vector of the scaled [R_y, R_λ], with its λ component
 // of the sign of lambda_direction. From the border Δλ = 1 by one LU, checked to be a null
 // vector; else (a start at a fold) from a rank-revealing QR. False if the null space is not
-// one-dimensional.
+// one-dimensional. orientation (optional): OrientationIndex of the tangent, from the same LU
+// (0 after the QR: undecided).
 bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
-                    double residual_scale, double lambda_direction,
-                    Eigen::VectorXd* tangent_scaled);
+                    double residual_scale, double lambda_direction, Eigen::VectorXd* tangent_scaled,
+                    int* orientation = nullptr);
 
 // Tangent from the bordered system [[R_y, R_λ]; τ_prevᵀ] τ = [0; 1], normalised: the border
 // fixes the orientation (τᵀ τ_prev > 0) and keeps the system regular at simple folds.
+// orientation (optional): OrientationIndex of the returned tangent, from the same LU (0 where
+// it is undecided). Replacing the border b by τ = s/‖s‖, s the solution (bᵀs = 1), is a rank-one
+// change of the last row: det [J; τᵀ] = det [J; bᵀ] (1 + (τ − b)ᵀ s) = det [J; bᵀ] ‖s‖, so
+// both determinants have one sign and the index costs no second factorisation.
 bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
-                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled);
+                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
+                 int* orientation = nullptr);
 
 // The orientation index of a unit scaled tangent τ at a point: the sign of
 // det [[R_y D_y, R_λ s_λ] / r; τᵀ] (+1 or −1; 0 if that matrix is singular to rounding).

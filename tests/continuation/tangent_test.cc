@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 
 #include "test_problems.h"
 
@@ -127,6 +129,52 @@ TEST_CASE("tangent: across a corner the orientation index keeps the direction of
         OrientationIndex(right, scaling, 1.0, next));
   CHECK(OrientationIndex(left, scaling, 1.0, incoming) ==
         OrientationIndex(right, scaling, 1.0, -next));  // λ goes on: −next
+}
+
+// The index that InitialTangent and NextTangent take from their own factorisation (border
+// eₙ or τ_prev, by the determinant lemma) against OrientationIndex's separate LU of
+// [J; τᵀ], on random matrices with and without elimination blocks and with borders of either
+// sign: two routes to one determinant sign.
+TEST_CASE("tangent: the orientation from the tangent's own factorisation is OrientationIndex") {
+  constexpr int kSize = 9;  // unknowns y; blocks {0, 1}, {2, 3}, {4, 5} and the rest 6..8, λ
+  std::srand(7);
+  Scaling scaling({0, 0, 0, 0, 0, 0, 1, 1, 1}, 2.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::LinSpaced(kSize, 0.5, 3.0));
+  int checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    CAPTURE(trial);
+    const bool blocks = trial % 2 == 1;
+    Linearization at;
+    at.residual = Eigen::VectorXd::Zero(kSize);
+    at.jacobian_y = Eigen::MatrixXd::Random(kSize, kSize);
+    at.jacobian_lambda = Eigen::VectorXd::Random(kSize);
+    if (blocks) {
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          if (a != b) at.jacobian_y.block(2 * a, 2 * b, 2, 2).setZero();
+        }
+      }
+      at.elimination =
+          std::make_shared<const EliminationBlocks>(EliminationBlocks{{0, 1}, {2, 3}, {4, 5}});
+    }
+    for (double direction : {1.0, -1.0}) {
+      Eigen::VectorXd tangent;
+      int orientation = 0;
+      REQUIRE(InitialTangent(at, scaling, 1.5, direction, &tangent, &orientation));
+      CHECK(orientation != 0);
+      CHECK(orientation == OrientationIndex(at, scaling, 1.5, tangent));
+    }
+    const Eigen::VectorXd previous = Eigen::VectorXd::Random(kSize + 1).normalized();
+    Eigen::VectorXd tangent;
+    int orientation = 0;
+    // NextTangent refuses a tangent against the border (τᵀτ_prev ≤ 0 after a fallback only).
+    if (!NextTangent(at, scaling, 1.5, previous, &tangent, &orientation)) continue;
+    CHECK(orientation != 0);
+    CHECK(orientation == OrientationIndex(at, scaling, 1.5, tangent));
+    CHECK(-orientation == OrientationIndex(at, scaling, 1.5, -tangent));
+    ++checked;
+  }
+  CHECK(checked >= 30);
 }
 
 }  // namespace

@@ -1,0 +1,92 @@
+#include "continuation/reused_factorization.h"
+
+#include <algorithm>
+
+namespace nfrc {
+
+bool ReusedFactorization::Refactor(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
+                                   Eigen::VectorXd* rest_solution) {
+  base_ = schur;
+  base_lu_.compute(base_);
+  ++counts_.factorisations;
+  if (!RegularForElimination(base_lu_)) {
+    elimination_.reset();
+    return false;
+  }
+  *rest_solution = base_lu_.solve(rhs);
+  return true;
+}
+
+bool ReusedFactorization::LowRank(const Eigen::MatrixXd& delta, int max_rank, Eigen::MatrixXd* q,
+                                  Eigen::MatrixXd* b) {
+  const Eigen::Index n = delta.rows();
+  const double tolerance = kRangeTolerance * base_.norm();
+  std::normal_distribution<double> normal;
+  q->resize(n, 0);
+  while (true) {
+    Eigen::MatrixXd probes(n, kProbes);
+    for (Eigen::Index j = 0; j < kProbes; ++j) {
+      for (Eigen::Index i = 0; i < n; ++i) probes(i, j) = normal(random_);
+    }
+    // ‖ΔS ω‖ for a Gaussian ω is ~‖ΔS‖_F: what the projection leaves of it bounds the rest.
+    Eigen::MatrixXd y = delta * probes;
+    for (int pass = 0; pass < 2 && q->cols() > 0; ++pass) y -= *q * (q->transpose() * y);
+    const double largest = y.colwise().norm().maxCoeff();
+    if (largest <= tolerance) break;
+    // Directions whose pivot is below the tolerance are rounding: not kept.
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(y);
+    qr.setThreshold(tolerance / largest);
+    const Eigen::Index rank = qr.rank();
+    if (q->cols() + rank > max_rank) return false;
+    const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n, rank);
+    q->conservativeResize(n, q->cols() + rank);
+    q->rightCols(rank) = basis;
+  }
+  *b = q->transpose() * delta;
+  return true;
+}
+
+bool ReusedFactorization::Solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                                Eigen::VectorXd* x) {
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd rhs, rest_solution, block_solutions;
+  if (!elimination_ || !elimination_->SameBlockRows(a)) {
+    elimination_ = BlockElimination::Factor(a, blocks_);
+    if (!elimination_) return false;
+    block_solutions = elimination_->BlockSolutions(b);
+    elimination_->Reduce(a, b, block_solutions, &schur, &rhs);
+    if (!Refactor(schur, rhs, &rest_solution)) return false;
+  } else {
+    block_solutions = elimination_->BlockSolutions(b);
+    elimination_->Reduce(a, b, block_solutions, &schur, &rhs);
+    const Eigen::MatrixXd delta = schur - base_;
+    const int n = static_cast<int>(schur.rows());
+    const int max_rank = static_cast<int>(kMaxRankFraction * n);
+    Eigen::MatrixXd q, coefficients;
+    bool updated = false;
+    if (LowRank(delta, max_rank, &q, &coefficients)) {
+      // (S₀ + Q B)⁻¹ r = z − W (I + B W)⁻¹ B z, with z = S₀⁻¹ r and W = S₀⁻¹ Q.
+      rest_solution = base_lu_.solve(rhs);
+      const int k = static_cast<int>(q.cols());
+      if (k > 0) {
+        const Eigen::MatrixXd w = base_lu_.solve(q);
+        const Eigen::MatrixXd capacitance = Eigen::MatrixXd::Identity(k, k) + coefficients * w;
+        rest_solution -= w * capacitance.partialPivLu().solve(coefficients * rest_solution);
+      }
+      const double backward = (schur * rest_solution - rhs).lpNorm<Eigen::Infinity>();
+      const double scale =
+          schur.lpNorm<Eigen::Infinity>() * rest_solution.lpNorm<Eigen::Infinity>() +
+          rhs.lpNorm<Eigen::Infinity>();
+      updated = rest_solution.allFinite() && backward <= kMaxBackwardError * scale;
+      if (updated) {
+        ++counts_.updates;
+        counts_.largest_rank = std::max(counts_.largest_rank, k);
+      }
+    }
+    if (!updated && !Refactor(schur, rhs, &rest_solution)) return false;
+  }
+  elimination_->BackSubstitute(block_solutions, rest_solution, x);
+  return x->allFinite();
+}
+
+}  // namespace nfrc

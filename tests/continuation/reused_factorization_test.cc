@@ -1,0 +1,131 @@
+#include "continuation/reused_factorization.h"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+
+namespace nfrc {
+namespace {
+
+// Well-conditioned random systems of ~100 unknowns: a dense LU's solution and the Woodbury
+// update's (backward error ≤ 1e-10 by construction, condition ~1e2) agree to ~1e-9 or better.
+constexpr double kSameSolution = 1e-8;
+
+// m blocks of two unknowns {k, k + m} (a harmonic's coefficients), each coupled to the rest
+// through one force column and through every rest row (the laws' equations), as in a friction
+// problem's Jacobian; the rest are the last `rest` unknowns.
+Eigen::MatrixXd BlockMatrix(int m, int rest, EliminationBlocks* blocks) {
+  const int n = 2 * m + rest;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+  blocks->clear();
+  for (int k = 0; k < m; ++k) blocks->push_back({k, k + m});
+  for (int i = 0; i < 2 * m; ++i) {
+    for (int j = 0; j < 2 * m; ++j) {
+      if (i % m != j % m) a(i, j) = 0.0;
+    }
+    for (int j = 2 * m; j < n; ++j) {
+      if ((j - 2 * m) % m != i % m) a(i, j) = 0.0;
+    }
+  }
+  a.diagonal().array() += 6.0;
+  return a;
+}
+
+double RelativeError(const Eigen::VectorXd& x, const Eigen::VectorXd& reference) {
+  return (x - reference).norm() / reference.norm();
+}
+
+// The rest rows changed by a rank-r term u vᵀ: what a law's rows do when r samples switch.
+void ChangeRestRows(int m, int rank, Eigen::MatrixXd* a) {
+  const Eigen::Index n = a->rows(), rest = n - 2 * m;
+  const Eigen::MatrixXd u = Eigen::MatrixXd::Random(rest, rank);
+  const Eigen::MatrixXd v = Eigen::MatrixXd::Random(n, rank);
+  a->bottomRows(rest) += 0.3 * u * v.transpose();
+}
+
+TEST_CASE("reused factorisation: low-rank changes of the laws' rows are updates of exact rank") {
+  std::srand(11);
+  constexpr int kBlocks = 40, kRest = 80;
+  EliminationBlocks blocks;
+  Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
+  ReusedFactorization solver(blocks);
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
+  Eigen::VectorXd x;
+  REQUIRE(solver.Solve(a, b, &x));
+  CHECK(RelativeError(x, a.partialPivLu().solve(b)) < kSameSolution);
+  CHECK(solver.counts().factorisations == 1);
+  int expected_updates = 0;
+  for (int rank : {1, 3, 5}) {
+    CAPTURE(rank);
+    Eigen::MatrixXd changed = a;
+    ChangeRestRows(kBlocks, rank, &changed);
+    REQUIRE(solver.Solve(changed, b, &x));
+    CHECK(RelativeError(x, changed.partialPivLu().solve(b)) < kSameSolution);
+    ++expected_updates;
+    CHECK(solver.counts().factorisations == 1);
+    CHECK(solver.counts().updates == expected_updates);
+    // The range finder finds the rank of the change, not more.
+    CHECK(solver.counts().largest_rank == rank);
+  }
+  // The same matrix again: a zero change, solved by the kept LU alone.
+  REQUIRE(solver.Solve(a, b, &x));
+  CHECK(RelativeError(x, a.partialPivLu().solve(b)) < kSameSolution);
+  CHECK(solver.counts().factorisations == 1);
+}
+
+TEST_CASE("reused factorisation: a change of high rank or of the blocks' rows factorises again") {
+  std::srand(12);
+  constexpr int kBlocks = 30, kRest = 96;  // rank limit 96/12 = 8
+  EliminationBlocks blocks;
+  const Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
+  ReusedFactorization solver(blocks);
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
+  Eigen::VectorXd x;
+  REQUIRE(solver.Solve(a, b, &x));
+
+  Eigen::MatrixXd high = a;
+  ChangeRestRows(kBlocks, 20, &high);
+  REQUIRE(solver.Solve(high, b, &x));
+  CHECK(RelativeError(x, high.partialPivLu().solve(b)) < kSameSolution);
+  CHECK(solver.counts().factorisations == 2);
+  CHECK(solver.counts().updates == 0);
+
+  // A block's own entry (ω moved, in a continuation step): new blocks, new LU.
+  Eigen::MatrixXd moved = high;
+  moved(0, 0) += 0.5;
+  REQUIRE(solver.Solve(moved, b, &x));
+  CHECK(RelativeError(x, moved.partialPivLu().solve(b)) < kSameSolution);
+  CHECK(solver.counts().factorisations == 3);
+  // A block's coupling to the rest, in a column that was zero.
+  Eigen::MatrixXd coupled = moved;
+  coupled(1, 2 * kBlocks + 5) = 0.7;
+  REQUIRE(solver.Solve(coupled, b, &x));
+  CHECK(RelativeError(x, coupled.partialPivLu().solve(b)) < kSameSolution);
+  CHECK(solver.counts().factorisations == 4);
+  CHECK(solver.counts().updates == 0);
+}
+
+TEST_CASE("reused factorisation: an update onto a nearly singular system is not trusted") {
+  std::srand(13);
+  constexpr int kBlocks = 10, kRest = 60;
+  EliminationBlocks blocks;
+  const Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
+  ReusedFactorization solver(blocks);
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
+  Eigen::VectorXd x;
+  REQUIRE(solver.Solve(a, b, &x));
+  // A rank-one change of the last rest row that makes it (nearly) a copy of another: the
+  // capacitance matrix is then near singular and the update's residual is checked.
+  Eigen::MatrixXd singular = a;
+  const Eigen::Index last = a.rows() - 1;
+  singular.row(last) = singular.row(last - 1) * (1.0 + 1e-13);
+  Eigen::VectorXd y;
+  const bool solved = solver.Solve(singular, b, &y);
+  if (solved) {
+    // Whatever path solved it, the answer satisfies the system to its conditioning.
+    CHECK((singular * y - b).norm() <= 1e-6 * b.norm() * singular.norm() * y.norm());
+  }
+}
+
+}  // namespace
+}  // namespace nfrc
