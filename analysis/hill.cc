@@ -343,6 +343,27 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
   return HillAssembler(system).Assemble(y, omega);
 }
 
+int DisplacementEnd(const HillPencil& pencil) {
+  return pencil.own_offset < 0 ? static_cast<int>(pencil.d0.rows()) : pencil.own_offset;
+}
+
+std::vector<int> DisplacementHarmonics(const HillPencil& pencil) {
+  const HarmonicSet& set = pencil.set;
+  std::vector<int> of_coefficient(static_cast<size_t>(set.NumCoefficients()));
+  for (int p = 0; p < set.num_harmonics(); ++p) {
+    of_coefficient[static_cast<size_t>(set.CosIndex(p))] = p;
+    of_coefficient[static_cast<size_t>(set.SinIndex(p))] = p;
+  }
+  // Memory unknowns without own unknowns end the displacement range: a group of their own.
+  const int end = DisplacementEnd(pencil) - (pencil.own_offset < 0 ? pencil.memory_unknowns : 0);
+  std::vector<int> harmonics(static_cast<size_t>(DisplacementEnd(pencil)), set.num_harmonics());
+  for (int i = 0; i < end; ++i) {
+    harmonics[static_cast<size_t>(i)] =
+        of_coefficient[static_cast<size_t>(i % set.NumCoefficients())];
+  }
+  return harmonics;
+}
+
 namespace {
 
 // Applies the shift-inverted linearised pencil (A − σB)⁻¹B on z = (q, w = s q_dynamic):
@@ -357,7 +378,7 @@ class ShiftInvertOperator {
       : pencil_(pencil),
         n_(static_cast<int>(pencil.d0.rows())),
         sigma_(sigma),
-        solver_(Hill(pencil, sigma), pencil.own_offset < 0 ? n_ : pencil.own_offset) {}
+        solver_(Hill(pencil, sigma), DisplacementEnd(pencil), DisplacementHarmonics(pencil)) {}
   bool ok() const { return solver_.ok(); }
   Eigen::Index rows() const { return n_ + static_cast<Eigen::Index>(pencil_.dynamic.size()); }
   Eigen::Index cols() const { return rows(); }

@@ -63,6 +63,12 @@ class HillAssembler {
 // One pencil, through a HillAssembler made for it.
 HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, double omega);
 
+// The end of the pencil's displacement unknowns (the DOFs' and obstacles' coefficients, nc
+// each, then any memory unknowns of a pencil without own unknowns): own_offset, or the size.
+int DisplacementEnd(const HillPencil& pencil);
+// The harmonic (position in pencil.set) of each of those unknowns, for HillLinearSolver.
+std::vector<int> DisplacementHarmonics(const HillPencil& pencil);
+
 struct HillOptions {
   // |μ| > 1 + unstable_tolerance counts as unstable (StabilityOptions).
   double unstable_tolerance = 1e-6;

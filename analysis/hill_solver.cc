@@ -1,5 +1,6 @@
 #include "analysis/hill_solver.h"
 
+#include <cassert>
 #include <numeric>
 
 #include "continuation/block_elimination.h"
@@ -18,9 +19,11 @@ int Root(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-HillLinearSolver::HillLinearSolver(const Eigen::SparseMatrix<double>& matrix, int own_offset)
+HillLinearSolver::HillLinearSolver(const Eigen::SparseMatrix<double>& matrix, int own_offset,
+                                   const std::vector<int>& harmonics)
     : size_(static_cast<int>(matrix.rows())), own_offset_(own_offset) {
-  eliminating_ = size_ - own_offset_ <= kMaxSchur && Eliminate(matrix);
+  ChooseSchur(matrix, harmonics);
+  eliminating_ = schur_size() <= kMaxSchur && Eliminate(matrix);
   if (eliminating_) {
     ok_ = true;
     return;
@@ -31,21 +34,50 @@ HillLinearSolver::HillLinearSolver(const Eigen::SparseMatrix<double>& matrix, in
   ok_ = sparse_lu_.info() == Eigen::Success;
 }
 
+void HillLinearSolver::ChooseSchur(const Eigen::SparseMatrix<double>& matrix,
+                                   const std::vector<int>& harmonics) {
+  using Iterator = Eigen::SparseMatrix<double>::InnerIterator;
+  std::vector<bool> in_schur(static_cast<size_t>(size_), false);
+  for (int i = own_offset_; i < size_; ++i) in_schur[static_cast<size_t>(i)] = true;
+  if (!harmonics.empty()) {
+    assert(static_cast<int>(harmonics.size()) == own_offset_);
+    // Marking the rows is enough: what is left couples only unknowns of one harmonic.
+    for (int j = 0; j < own_offset_; ++j) {
+      for (Iterator it(matrix, j); it; ++it) {
+        const int i = static_cast<int>(it.row());
+        if (i < own_offset_ && it.value() != 0.0 &&
+            harmonics[static_cast<size_t>(i)] != harmonics[static_cast<size_t>(j)]) {
+          in_schur[static_cast<size_t>(i)] = true;
+        }
+      }
+    }
+  }
+  schur_position_.assign(static_cast<size_t>(size_), -1);
+  for (int i = 0; i < size_; ++i) {
+    if (!in_schur[static_cast<size_t>(i)]) continue;
+    schur_position_[static_cast<size_t>(i)] = static_cast<int>(schur_unknowns_.size());
+    schur_unknowns_.push_back(i);
+  }
+}
+
 bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
   using Iterator = Eigen::SparseMatrix<double>::InnerIterator;
-  const int nd = own_offset_, nr = size_ - own_offset_;
-  // The displacement unknowns' blocks: connected components of H's pattern among them.
-  std::vector<int> parent(static_cast<size_t>(nd));
+  const int nr = schur_size();
+  const auto in_schur = [&](int i) { return schur_position_[static_cast<size_t>(i)] >= 0; };
+  // The other unknowns' blocks: connected components of H's pattern among them.
+  std::vector<int> parent(static_cast<size_t>(size_));
   std::iota(parent.begin(), parent.end(), 0);
-  for (int j = 0; j < nd; ++j) {
+  for (int j = 0; j < size_; ++j) {
+    if (in_schur(j)) continue;
     for (Iterator it(matrix, j); it; ++it) {
       const int i = static_cast<int>(it.row());
-      if (i < nd && it.value() != 0.0)
+      if (!in_schur(i) && it.value() != 0.0)
         parent[static_cast<size_t>(Root(parent, i))] = Root(parent, j);
     }
   }
-  std::vector<int> block_of(static_cast<size_t>(nd), -1), position(static_cast<size_t>(nd));
-  for (int i = 0; i < nd; ++i) {
+  std::vector<int> block_of(static_cast<size_t>(size_), -1), position(static_cast<size_t>(size_));
+  for (int i = 0; i < size_; ++i) {
+    if (in_schur(i)) continue;
     const int root = Root(parent, i);
     if (block_of[static_cast<size_t>(root)] < 0) {
       block_of[static_cast<size_t>(root)] = static_cast<int>(blocks_.size());
@@ -58,12 +90,12 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     if (static_cast<int>(block.unknowns.size()) > kMaxBlock) return false;
   }
 
-  // One pass down the columns: each block's own matrix, its couplings with the own unknowns
-  // (kept as entries until the block knows which own rows and columns it touches) and the
-  // own unknowns' block, where the Schur complement starts.
+  // One pass down the columns: each block's own matrix, its couplings with the Schur
+  // unknowns (kept as entries until the block knows which rows and columns it touches) and
+  // the Schur unknowns' own block, where the Schur complement starts.
   struct Coupling {
     int position;  // in the block
-    int own;       // own unknown, from own_offset
+    int own;       // position in the Schur complement
     double value;
   };
   std::vector<Eigen::MatrixXd> block_matrices(blocks_.size());
@@ -74,23 +106,25 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
   std::vector<std::vector<Coupling>> to_own(blocks_.size()), from_own(blocks_.size());
   Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nr, nr);
   for (int j = 0; j < size_; ++j) {
+    const int schur_j = schur_position_[static_cast<size_t>(j)];
     for (Iterator it(matrix, j); it; ++it) {
       const int i = static_cast<int>(it.row());
-      if (j < nd) {
+      const int schur_i = schur_position_[static_cast<size_t>(i)];
+      if (schur_j < 0) {
         const int k = block_of[static_cast<size_t>(j)];
-        if (i >= nd) {
+        if (schur_i >= 0) {
           from_own[static_cast<size_t>(k)].push_back(
-              {position[static_cast<size_t>(j)], i - nd, it.value()});
+              {position[static_cast<size_t>(j)], schur_i, it.value()});
         } else if (block_of[static_cast<size_t>(i)] == k) {
           // A stored zero may sit between two blocks: only this block's own entries count.
           block_matrices[static_cast<size_t>(k)](position[static_cast<size_t>(i)],
                                                  position[static_cast<size_t>(j)]) = it.value();
         }
-      } else if (i < nd) {
+      } else if (schur_i < 0) {
         to_own[static_cast<size_t>(block_of[static_cast<size_t>(i)])].push_back(
-            {position[static_cast<size_t>(i)], j - nd, it.value()});
+            {position[static_cast<size_t>(i)], schur_j, it.value()});
       } else {
-        schur(i - nd, j - nd) = it.value();
+        schur(schur_i, schur_j) = it.value();
       }
     }
   }
@@ -151,7 +185,7 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
     return;
   }
   x->resize(size_);
-  schur_rhs_ = rhs.tail(size_ - own_offset_);
+  schur_rhs_ = rhs(schur_unknowns_);
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());
     for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
@@ -162,8 +196,8 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
       schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));
     }
   }
-  if (size_ > own_offset_) own_solution_ = schur_lu_.solve(schur_rhs_);
-  x->tail(size_ - own_offset_) = own_solution_;
+  if (!schur_unknowns_.empty()) own_solution_ = schur_lu_.solve(schur_rhs_);
+  (*x)(schur_unknowns_) = own_solution_;
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());
     if (!block.own_columns.empty()) {

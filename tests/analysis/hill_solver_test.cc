@@ -1,7 +1,7 @@
 // HillLinearSolver against Eigen's sparse LU of the same matrix: the eliminating path on a
-// friction pencil (blocks per harmonic, Schur complement on the friction force), the
-// fallback where a law couples harmonics in the displacement rows, and the fallback on a
-// singular block.
+// friction pencil (blocks per harmonic, Schur complement on the friction force), a contact
+// pencil (the contact DOF's rows join the Schur complement, or, without the harmonics given,
+// the sparse LU), and the fallback on a singular block.
 #include "analysis/hill_solver.h"
 
 #include <doctest/doctest.h>
@@ -62,16 +62,23 @@ TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement 
   CHECK(Difference(hill, solver) <= kSameSolution);
 }
 
-TEST_CASE("hill solver: a law coupling harmonics in the displacement rows takes the sparse LU") {
+TEST_CASE("hill solver: a law coupling harmonics in the displacement rows joins the Schur set") {
   const Case c = testing::ChainAgainstRigidObstacle(HarmonicSet(30, false, 128));
   const HillPencil pencil = PencilOf(c, 0.9, 0.05, 11);
   const Eigen::SparseMatrix<double> hill = HillAt(pencil, 0.009);
-  // DLFT has no own unknowns: the displacement part is one block of 4·61 > kMaxBlock.
-  const HillLinearSolver solver(
-      hill, pencil.own_offset < 0 ? static_cast<int>(hill.rows()) : pencil.own_offset);
-  REQUIRE(solver.ok());
-  CHECK_FALSE(solver.eliminating());
-  CHECK(Difference(hill, solver) <= kSameSolution);
+  REQUIRE(DisplacementEnd(pencil) == hill.rows());  // DLFT has no own unknowns
+  // Without the harmonics, the displacement part is one block of 4·61 > kMaxBlock.
+  const HillLinearSolver whole(hill, DisplacementEnd(pencil));
+  REQUIRE(whole.ok());
+  CHECK_FALSE(whole.eliminating());
+  CHECK(Difference(hill, whole) <= kSameSolution);
+  // With them, the contact DOF's 61 coefficients (its rows reach every harmonic through the
+  // law) form the Schur complement and the three free DOFs split per harmonic.
+  const HillLinearSolver split(hill, DisplacementEnd(pencil), DisplacementHarmonics(pencil));
+  REQUIRE(split.ok());
+  CHECK(split.eliminating());
+  CHECK(split.schur_size() == c.harmonics.NumCoefficients());
+  CHECK(Difference(hill, split) <= kSameSolution);
 }
 
 TEST_CASE("hill solver: a singular block falls back to the sparse LU") {
