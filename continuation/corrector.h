@@ -45,7 +45,9 @@ CorrectorResult CorrectOnArclength(Evaluator& evaluator, const Scaling& scaling,
                                    const NewtonSettings& settings, const Eigen::VectorXd& u_pred,
                                    const Eigen::VectorXd& tangent_scaled);
 
-// Newton at the fixed λ = u_guess(n) from u_guess; λ stays exactly at that value.
+// Newton at the fixed λ = u_guess(n) from u_guess; λ stays exactly at that value. With the
+// problem's elimination blocks, an iteration whose Schur complement differs from the last one
+// factorised by a low rank solves through that LU (ReusedFactorization).
 CorrectorResult CorrectAtFixedLambda(Evaluator& evaluator, const Scaling& scaling,
                                      const NewtonSettings& settings,
                                      const Eigen::VectorXd& u_guess);
