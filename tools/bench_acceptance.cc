@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,12 @@ struct AcceptanceCase {
   const char* file;  // under cases/
   Plotted plotted;
   double budget_lu;  // the budget in LU(320); 0 = "unchanged or faster"
+};
+
+// One run of a case in its child: its wall time and the calibration just before it (s).
+struct Timing {
+  double seconds = 0.0;
+  double lu_unit = 0.0;
 };
 
 PlottedCurve Curve(const TraceResult& trace, Plotted plotted) {
@@ -59,7 +66,7 @@ double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
   return CurveDeviation(Curve(reference, plotted), Curve(trace, plotted));
 }
 
-void RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
+Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + c.file);
   the_case.stability.enabled = true;
   const auto start = Clock::now();
@@ -91,12 +98,13 @@ void RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy) {
                 Accuracy(the_case, trace, c.plotted));
   }
   std::fflush(stdout);
+  return {seconds, lu_unit};
 }
 
 // One friction point at N_φ = 640 (harmonics 1, 3, …, 1279: 1 280 coefficients per signal,
 // 2 560 unknowns with the friction force): the start
 // solve at ω = 0.75 of the two-DOF oscillator, N = 10.
-void RunFineFrictionPoint(double lu_unit) {
+Timing RunFineFrictionPoint(double lu_unit) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/friction/point_e.json");
   the_case.harmonics = HarmonicSet(1279, true);
   the_case.continuation.lambda_start = 0.75;
@@ -111,6 +119,7 @@ void RunFineFrictionPoint(double lu_unit) {
   std::printf("  wall time %.1f ms = %.1f LU(320)  (budget 200 LU(320))\n", 1e3 * seconds,
               seconds / lu_unit);
   std::fflush(stdout);
+  return {seconds, lu_unit};
 }
 
 double Calibrate(const std::function<double()>& lu_unit) {
@@ -119,24 +128,65 @@ double Calibrate(const std::function<double()>& lu_unit) {
   return seconds;
 }
 
-// Runs `body` in a child and prints the child's peak resident memory.
+// Runs `body` (which returns a Timing) in a child, prints the child's peak resident memory
+// and returns the Timing (through a pipe), or nothing if the child failed.
 template <typename Body>
-void InChild(Body body) {
+std::optional<Timing> InChild(Body body) {
   std::fflush(stdout);
+  int channel[2];
+  if (pipe(channel) != 0) {
+    std::printf("  (could not open a pipe to a child process)\n");
+    return std::nullopt;
+  }
   const pid_t pid = fork();
   if (pid == 0) {
-    body();
+    close(channel[0]);
+    const Timing timing = body();
     std::fflush(stdout);
-    _exit(0);
+    const bool sent = write(channel[1], &timing, sizeof timing) == sizeof timing;
+    _exit(sent ? 0 : 1);
   }
+  close(channel[1]);
+  Timing timing;
+  const bool received = pid > 0 && read(channel[0], &timing, sizeof timing) == sizeof timing;
+  close(channel[0]);
   int status = 0;
   rusage usage{};
   if (pid < 0 || wait4(pid, &status, 0, &usage) != pid) {
     std::printf("  (could not run in a child process)\n");
+    return std::nullopt;
+  }
+  const bool exited = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!exited) std::printf("  (child failed)\n");
+  std::printf("  peak memory %.1f MB\n", usage.ru_maxrss / 1024.0);  // ru_maxrss is in KiB
+  if (!exited || !received) return std::nullopt;
+  return timing;
+}
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// The summary of repeated runs of one case: fastest and median ms, and the same in LU(320)
+// as each run's time over its own child's calibration (a slow phase of the shared machine
+// slows both alike).
+void PrintRuns(const std::string& name, const std::vector<Timing>& runs, double budget_lu) {
+  if (runs.empty()) {
+    std::printf("  %-34s no run completed\n", name.c_str());
     return;
   }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("  (child failed)\n");
-  std::printf("  peak memory %.1f MB\n", usage.ru_maxrss / 1024.0);  // ru_maxrss is in KiB
+  std::vector<double> ms, units;
+  for (const Timing& t : runs) {
+    ms.push_back(1e3 * t.seconds);
+    units.push_back(t.seconds / t.lu_unit);
+  }
+  std::printf("  %-34s %zu runs: %9.1f / %9.1f ms, %8.1f / %8.1f LU(320)", name.c_str(),
+              runs.size(), *std::min_element(ms.begin(), ms.end()), Median(ms),
+              *std::min_element(units.begin(), units.end()), Median(units));
+  if (budget_lu > 0.0) std::printf("  (budget %.0f)", budget_lu);
+  std::printf("\n");
 }
 
 // The Fig. 7 curve (N = 10) traced with own-unknown step weight `weight`, as the plotted
@@ -185,7 +235,7 @@ void BenchStepWeights(double lu_unit) {
   }
 }
 
-void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy) {
+void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs) {
   const std::vector<AcceptanceCase> cases = {
       {"duffing.json", Plotted::kMaxAbs, 0.0},
       {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
@@ -197,10 +247,29 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy) {
       {"rod/rigid_nh20.json", Plotted::kMaxAbs, 60.0},
       {"friction/point_e.json", Plotted::kLogEnergy, 700.0},
   };
-  for (const AcceptanceCase& c : cases) {
-    InChild([&] { RunCase(c, Calibrate(lu_unit), accuracy); });
+  // Rounds of every case in turn, so that a slow phase of the machine spreads over the cases.
+  std::vector<std::vector<Timing>> timings(cases.size() + 1);
+  const auto keep = [](std::optional<Timing> timing, std::vector<Timing>* into) {
+    if (timing) into->push_back(*timing);
+  };
+  for (int round = 0; round < runs; ++round) {
+    if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
+    const bool with_accuracy = accuracy && round == 0;  // the reference traces cost more
+    for (size_t i = 0; i < cases.size(); ++i) {
+      keep(InChild([&] { return RunCase(cases[i], Calibrate(lu_unit), with_accuracy); }),
+           &timings[i]);
+    }
+    keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit)); }), &timings[cases.size()]);
   }
-  InChild([&] { RunFineFrictionPoint(Calibrate(lu_unit)); });
+  if (runs <= 1) return;
+  std::printf(
+      "over %d rounds: fastest / median wall time, and each run's time over its own "
+      "calibration, fastest / median\n",
+      runs);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    PrintRuns(cases[i].file, timings[i], cases[i].budget_lu);
+  }
+  PrintRuns("friction point at N_phi = 640", timings[cases.size()], 200.0);
 }
 
 }  // namespace nfrc::bench

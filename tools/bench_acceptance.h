@@ -10,7 +10,9 @@ namespace nfrc::bench {
 // load that comes and goes on a shared machine shows in both), the budget, points, Newton
 // iterations, bifurcations and, with `accuracy`, the curve's accuracy against a reference traced
 // with a tenth of the maximum step (see CurveDeviation). Also one friction point at N_φ = 640.
-void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy);
+// runs > 1: that many rounds of every case in turn (accuracy only in the first), then each
+// case's fastest and median time, in ms and in its own child's LU(320).
+void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs = 1);
 
 // Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
 // friction force's step weights 1, 0.3 (the default), 0.1 and 0 (HarmonicSystem::

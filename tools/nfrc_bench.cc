@@ -482,14 +482,19 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
               hill / t_off);
 }
 
-// usage: nfrc_bench [SECTION ...] [accuracy] runs the numbered sections above (default: all).
+// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] runs the numbered sections above
+// (default: all); runs=N repeats section 9 in N rounds and summarises each case's times.
 int main(int argc, char** argv) {
   nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
   bool accuracy = false;
+  int runs = 1;  // rounds of section 9 (runs=N)
   for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "accuracy") {
+    const std::string arg = argv[i];
+    if (arg == "accuracy") {
       accuracy = true;
+    } else if (arg.rfind("runs=", 0) == 0) {
+      runs = std::max(1, std::atoi(arg.c_str() + 5));
     } else {
       sections.push_back(std::atoi(argv[i]));
     }
@@ -525,7 +530,7 @@ int main(int argc, char** argv) {
     BenchStability("rod/rigid_nh20.json", 0, 0);
     BenchStability("rod/flexible_4krod.json", 0, 0);
   }
-  if (run(9)) nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy);
+  if (run(9)) nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy, runs);
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);
