@@ -42,13 +42,21 @@ void HillLinearSolver::ChooseSchur(const Eigen::SparseMatrix<double>& matrix,
   if (!harmonics.empty()) {
     assert(static_cast<int>(harmonics.size()) == own_offset_);
     // Marking the rows is enough: what is left couples only unknowns of one harmonic.
+    std::vector<bool> coupled(static_cast<size_t>(own_offset_), false);
+    int num_coupled = 0;
     for (int j = 0; j < own_offset_; ++j) {
       for (Iterator it(matrix, j); it; ++it) {
         const int i = static_cast<int>(it.row());
-        if (i < own_offset_ && it.value() != 0.0 &&
+        if (i < own_offset_ && it.value() != 0.0 && !coupled[static_cast<size_t>(i)] &&
             harmonics[static_cast<size_t>(i)] != harmonics[static_cast<size_t>(j)]) {
-          in_schur[static_cast<size_t>(i)] = true;
+          coupled[static_cast<size_t>(i)] = true;
+          ++num_coupled;
         }
+      }
+    }
+    if (num_coupled <= kMaxCoupledRows) {
+      for (int i = 0; i < own_offset_; ++i) {
+        if (coupled[static_cast<size_t>(i)]) in_schur[static_cast<size_t>(i)] = true;
       }
     }
   }

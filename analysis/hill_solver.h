@@ -23,6 +23,9 @@ class HillLinearSolver {
   static constexpr int kMaxBlock = 64;
   // The dense Schur complement is at most this many unknowns (an LU of 3000 is ~1 s).
   static constexpr int kMaxSchur = 3000;
+  // At most this many displacement rows join it (its LU ~0.1 Gflop): with more (a chain with
+  // a spring at every DOF) the sparse LU, which keeps the chain's band, is the cheaper one.
+  static constexpr int kMaxCoupledRows = 512;
 
   // own_offset: the own unknowns are the indices from own_offset to the end. harmonics
   // (optional, own_offset entries): the harmonic of each displacement unknown; empty, only

@@ -81,6 +81,34 @@ TEST_CASE("hill solver: a law coupling harmonics in the displacement rows joins 
   CHECK(Difference(hill, split) <= kSameSolution);
 }
 
+TEST_CASE("hill solver: a spring at every DOF of a long chain keeps the sparse LU") {
+  // 30 DOFs with a cubic spring each, 21 coefficients: 630 coupled rows > kMaxCoupledRows.
+  Case c = testing::ChainCase(30);
+  c.model.forcing = {ForcingTerm{29, 1, 0.3, 0.0}};
+  c.harmonics = HarmonicSet(10, false, 64);
+  for (int dof = 0; dof < 30; ++dof) {
+    CubicSpringSpec spring;
+    spring.dof = dof;
+    spring.coefficient = 0.5;
+    c.laws.push_back(spring);
+  }
+  const HillPencil pencil = PencilOf(c, 0.9, 0.3, 13);
+  const Eigen::SparseMatrix<double> hill = HillAt(pencil, 0.009);
+  const HillLinearSolver solver(hill, DisplacementEnd(pencil), DisplacementHarmonics(pencil));
+  REQUIRE(solver.ok());
+  CHECK_FALSE(solver.eliminating());
+  CHECK(Difference(hill, solver) <= kSameSolution);
+  // Ten springs (210 coupled rows): their coefficients form the Schur complement.
+  c.laws.resize(10);
+  const HillPencil fewer = PencilOf(c, 0.9, 0.3, 13);
+  const Eigen::SparseMatrix<double> fewer_hill = HillAt(fewer, 0.009);
+  const HillLinearSolver split(fewer_hill, DisplacementEnd(fewer), DisplacementHarmonics(fewer));
+  REQUIRE(split.ok());
+  CHECK(split.eliminating());
+  CHECK(split.schur_size() == 10 * c.harmonics.NumCoefficients());
+  CHECK(Difference(fewer_hill, split) <= kSameSolution);
+}
+
 TEST_CASE("hill solver: a singular block falls back to the sparse LU") {
   // Blocks {0, 1} and {2}, own unknown 3; block {0, 1} is singular, the whole is not.
   Eigen::MatrixXd dense(4, 4);
