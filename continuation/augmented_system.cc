@@ -16,13 +16,20 @@ constexpr double kSingularPivotRatio = 1e2 * std::numeric_limits<double>::epsilo
 
 Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
                                 double residual_scale, const Eigen::VectorXd& last_row) {
+  Eigen::MatrixXd a;
+  AugmentedMatrix(linearization, scaling, residual_scale, last_row, &a);
+  return a;
+}
+
+void AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
+                     double residual_scale, const Eigen::VectorXd& last_row, Eigen::MatrixXd* a) {
   const int n = scaling.num_unknowns();
   const Eigen::VectorXd& scales = scaling.scales();
-  Eigen::MatrixXd a(n + 1, n + 1);
-  a.topLeftCorner(n, n) = linearization.jacobian_y * scales.head(n).asDiagonal() / residual_scale;
-  a.topRightCorner(n, 1) = linearization.jacobian_lambda * (scales(n) / residual_scale);
-  a.bottomRows(1) = last_row.transpose();
-  return a;
+  a->resize(n + 1, n + 1);
+  a->topLeftCorner(n, n).noalias() =
+      linearization.jacobian_y * scales.head(n).asDiagonal() / residual_scale;
+  a->topRightCorner(n, 1) = linearization.jacobian_lambda * (scales(n) / residual_scale);
+  a->bottomRows(1) = last_row.transpose();
 }
 
 bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,

@@ -12,6 +12,10 @@ namespace nfrc {
 // scale r, so that its entries (and the LU's pivot choices) do not depend on units.
 Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
                                 double residual_scale, const Eigen::VectorXd& last_row);
+// The same into `a`, whose storage is kept when it already has the size: a corrector's
+// iterations then fill one buffer (at 2 561 unknowns a new one is 52 MB of fresh pages).
+void AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
+                     double residual_scale, const Eigen::VectorXd& last_row, Eigen::MatrixXd* a);
 
 // Solves a x = b by a partial-pivoting LU; false if a pivot is at rounding level against the
 // largest (a numerically singular) or x is not finite. determinant_sign (optional): the sign

@@ -65,6 +65,7 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
       !result.linearization.elimination->empty()) {
     reused.emplace(*result.linearization.elimination);
   }
+  Eigen::MatrixXd augmented;  // filled anew at each iteration, in the same storage
   // The problem's rounding floor of ‖R‖, asked for once, from the second iteration on.
   double noise = -1.0;
   // Merit before a watchdog step and the iteration by which it must be beaten.
@@ -76,7 +77,7 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     rhs.head(n) = -result.linearization.residual / r;
     rhs(n) = -constraint_residual(result.u);
     Eigen::VectorXd step_scaled;
-    Eigen::MatrixXd augmented = AugmentedMatrix(result.linearization, scaling, r, row);
+    AugmentedMatrix(result.linearization, scaling, r, row, &augmented);
     // At fixed λ the last row gives Δλ = 0, so R_λ's column acts on nothing; zero, it is one
     // change less between iterations for the reused factorisation.
     if (constraint == Constraint::kFixedLambda) augmented.topRightCorner(n, 1).setZero();
