@@ -347,27 +347,23 @@ class Continuer {
     const std::optional<double> chord_error = plotted.chord_error;
     Accept(std::move(record), point, corrected.u, new_tangent, orientation,
            std::move(plotted.sample));
-    at_point_ = std::move(corrected.linearization);
     if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
     return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
   }
 
   // Whether the orientation index at the corrected point with `new_tangent` (`*after`, from
   // NextTangent's factorisation; computed here if undecided there) differs from the last
-  // point's with its tangent (kept from its own tangent's factorisation, else computed from
-  // its linearization, evaluated again if need be). Asked for only at large turns. Undecided
-  // (a singular bordered matrix) counts as not reversed.
+  // point's with its tangent (kept from its own tangent's factorisation; where that was
+  // undecided, a start at a fold, from the Jacobian evaluated there again). Asked for only at
+  // large turns. Undecided (a singular bordered matrix) counts as not reversed.
   bool OrientationReversed(const CorrectorResult& corrected, const Eigen::VectorXd& new_tangent,
                            int* after) {
     const double r = settings_.residual_scale;
     if (*after == 0) *after = OrientationIndex(corrected.linearization, scaling_, r, new_tangent);
     if (orientation_ == 0) {
-      if (!at_point_) {
-        Linearization last;
-        if (!evaluator_.Linearize(u_, &last)) return false;
-        at_point_ = std::move(last);
-      }
-      orientation_ = OrientationIndex(*at_point_, scaling_, r, scaling_.UnitScaled(tangent_));
+      Linearization last;
+      if (!evaluator_.Linearize(u_, &last)) return false;
+      orientation_ = OrientationIndex(last, scaling_, r, scaling_.UnitScaled(tangent_));
     }
     return orientation_ != 0 && *after != 0 && orientation_ != *after;
   }
@@ -543,7 +539,6 @@ class Continuer {
                 std::optional<PlotChordControl::Sample> plot_sample = std::nullopt) {
     const Eigen::VectorXd direction = scaling_.FromScaled(tangent_scaled);
     const Eigen::VectorXd scales_before = scaling_.scales();
-    at_point_.reset();  // the caller that has the linearization at u sets it again
     orientation_ = orientation;
     scaling_.Include(u.head(n()));
     tangent_ = direction / scaling_.Norm(direction);
@@ -597,9 +592,6 @@ class Continuer {
     double angle;
   };
   std::optional<AngleRejection> angle_rejection_;
-  // The corrector's linearization at u_ when the last accepted step had one: the orientation
-  // test at the next large turn reuses it instead of evaluating the Jacobian there again.
-  std::optional<Linearization> at_point_;
   // The orientation index of (u_, tangent_), known from the factorisation that gave the
   // tangent (OrientationIndex: invariant under the scaling's changes); 0 when undecided.
   int orientation_ = 0;

@@ -7,6 +7,7 @@ namespace nfrc {
 bool ReusedFactorization::Refactor(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
                                    Eigen::VectorXd* rest_solution) {
   base_ = schur;
+  base_norm_ = base_.norm();
   base_lu_.compute(base_);
   ++counts_.factorisations;
   if (!RegularForElimination(base_lu_)) {
@@ -20,7 +21,7 @@ bool ReusedFactorization::Refactor(const Eigen::MatrixXd& schur, const Eigen::Ve
 bool ReusedFactorization::LowRank(const Eigen::MatrixXd& delta, int max_rank, Eigen::MatrixXd* q,
                                   Eigen::MatrixXd* b) {
   const Eigen::Index n = delta.rows();
-  const double tolerance = kRangeTolerance * base_.norm();
+  const double tolerance = kRangeTolerance * base_norm_;
   std::normal_distribution<double> normal;
   q->resize(n, 0);
   while (true) {
@@ -48,45 +49,44 @@ bool ReusedFactorization::LowRank(const Eigen::MatrixXd& delta, int max_rank, Ei
 
 bool ReusedFactorization::Solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
                                 Eigen::VectorXd* x) {
-  Eigen::MatrixXd schur;
-  Eigen::VectorXd rhs, rest_solution, block_solutions;
-  if (!elimination_ || !elimination_->SameBlockRows(a)) {
+  const bool kept = elimination_ && elimination_->SameBlockRows(a);
+  if (!kept) {
     elimination_ = BlockElimination::Factor(a, blocks_);
     if (!elimination_) return false;
-    block_solutions = elimination_->BlockSolutions(b);
-    elimination_->Reduce(a, b, block_solutions, &schur, &rhs);
-    if (!Refactor(schur, rhs, &rest_solution)) return false;
-  } else {
-    block_solutions = elimination_->BlockSolutions(b);
-    elimination_->Reduce(a, b, block_solutions, &schur, &rhs);
-    const Eigen::MatrixXd delta = schur - base_;
-    const int n = static_cast<int>(schur.rows());
-    const int max_rank = static_cast<int>(kMaxRankFraction * n);
-    Eigen::MatrixXd q, coefficients;
-    bool updated = false;
-    if (LowRank(delta, max_rank, &q, &coefficients)) {
-      // (S₀ + Q B)⁻¹ r = z − W (I + B W)⁻¹ B z, with z = S₀⁻¹ r and W = S₀⁻¹ Q.
-      rest_solution = base_lu_.solve(rhs);
-      const int k = static_cast<int>(q.cols());
-      if (k > 0) {
-        const Eigen::MatrixXd w = base_lu_.solve(q);
-        const Eigen::MatrixXd capacitance = Eigen::MatrixXd::Identity(k, k) + coefficients * w;
-        rest_solution -= w * capacitance.partialPivLu().solve(coefficients * rest_solution);
-      }
-      const double backward = (schur * rest_solution - rhs).lpNorm<Eigen::Infinity>();
-      const double scale =
-          schur.lpNorm<Eigen::Infinity>() * rest_solution.lpNorm<Eigen::Infinity>() +
-          rhs.lpNorm<Eigen::Infinity>();
-      updated = rest_solution.allFinite() && backward <= kMaxBackwardError * scale;
-      if (updated) {
-        ++counts_.updates;
-        counts_.largest_rank = std::max(counts_.largest_rank, k);
-      }
-    }
-    if (!updated && !Refactor(schur, rhs, &rest_solution)) return false;
+  }
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd rhs, rest_solution;
+  const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
+  elimination_->Reduce(a, b, block_solutions, &schur, &rhs);
+  if (!(kept && Update(schur, rhs, &rest_solution)) && !Refactor(schur, rhs, &rest_solution)) {
+    return false;
   }
   elimination_->BackSubstitute(block_solutions, rest_solution, x);
   return x->allFinite();
+}
+
+bool ReusedFactorization::Update(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
+                                 Eigen::VectorXd* rest_solution) {
+  const int n = static_cast<int>(schur.rows());
+  Eigen::MatrixXd q, coefficients;
+  if (!LowRank(schur - base_, static_cast<int>(kMaxRankFraction * n), &q, &coefficients)) {
+    return false;
+  }
+  // (S₀ + Q B)⁻¹ r = z − W (I + B W)⁻¹ B z, with z = S₀⁻¹ r and W = S₀⁻¹ Q.
+  *rest_solution = base_lu_.solve(rhs);
+  const int k = static_cast<int>(q.cols());
+  if (k > 0) {
+    const Eigen::MatrixXd w = base_lu_.solve(q);
+    const Eigen::MatrixXd capacitance = Eigen::MatrixXd::Identity(k, k) + coefficients * w;
+    *rest_solution -= w * capacitance.partialPivLu().solve(coefficients * *rest_solution);
+  }
+  const double backward = (schur * *rest_solution - rhs).lpNorm<Eigen::Infinity>();
+  const double scale = schur.lpNorm<Eigen::Infinity>() * rest_solution->lpNorm<Eigen::Infinity>() +
+                       rhs.lpNorm<Eigen::Infinity>();
+  if (!rest_solution->allFinite() || !(backward <= kMaxBackwardError * scale)) return false;
+  ++counts_.updates;
+  counts_.largest_rank = std::max(counts_.largest_rank, k);
+  return true;
 }
 
 }  // namespace nfrc

@@ -44,15 +44,20 @@ class ReusedFactorization {
   const Counts& counts() const { return counts_; }
 
  private:
-  // Factorises S (of `a`, with right-hand side `rhs`) as the new base and solves.
+  // Factorises S (with right-hand side `rhs`) as the new base and solves.
   bool Refactor(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
                 Eigen::VectorXd* rest_solution);
+  // Solves with S through the base's LU and a low-rank update of S − base; false where the
+  // rank is too high or the solution's residual fails (the caller then refactorises).
+  bool Update(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
+              Eigen::VectorXd* rest_solution);
   // ΔS ≈ q b with q orthonormal, at most max_rank columns; false if the rank is larger.
   bool LowRank(const Eigen::MatrixXd& delta, int max_rank, Eigen::MatrixXd* q, Eigen::MatrixXd* b);
 
   EliminationBlocks blocks_;
   std::optional<BlockElimination> elimination_;
-  Eigen::MatrixXd base_;  // the S factorised
+  Eigen::MatrixXd base_;    // the S factorised
+  double base_norm_ = 0.0;  // its Frobenius norm
   Eigen::PartialPivLU<Eigen::MatrixXd> base_lu_;
   std::mt19937 random_{20240611u};  // fixed seed: runs repeat bit for bit
   Counts counts_;

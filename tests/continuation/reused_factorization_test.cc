@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdlib>
+#include <optional>
 
 namespace nfrc {
 namespace {
@@ -43,15 +44,28 @@ void ChangeRestRows(int m, int rank, Eigen::MatrixXd* a) {
   a->bottomRows(rest) += 0.3 * u * v.transpose();
 }
 
-TEST_CASE("reused factorisation: low-rank changes of the laws' rows are updates of exact rank") {
-  std::srand(11);
-  constexpr int kBlocks = 40, kRest = 80;
+// A seeded BlockMatrix and right-hand side, with a solver that has factorised it once.
+struct Factorised {
+  Factorised(unsigned seed, int m, int rest) {
+    std::srand(seed);
+    a = BlockMatrix(m, rest, &blocks);
+    b = Eigen::VectorXd::Random(a.rows());
+    solver.emplace(blocks);
+    REQUIRE(solver->Solve(a, b, &x));
+  }
   EliminationBlocks blocks;
-  Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
-  ReusedFactorization solver(blocks);
-  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
-  Eigen::VectorXd x;
-  REQUIRE(solver.Solve(a, b, &x));
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b, x;
+  std::optional<ReusedFactorization> solver;
+};
+
+TEST_CASE("reused factorisation: low-rank changes of the laws' rows are updates of exact rank") {
+  constexpr int kBlocks = 40, kRest = 80;
+  Factorised f(11, kBlocks, kRest);
+  const Eigen::MatrixXd& a = f.a;
+  const Eigen::VectorXd& b = f.b;
+  Eigen::VectorXd& x = f.x;
+  ReusedFactorization& solver = *f.solver;
   CHECK(RelativeError(x, a.partialPivLu().solve(b)) < kSameSolution);
   CHECK(solver.counts().factorisations == 1);
   int expected_updates = 0;
@@ -74,14 +88,12 @@ TEST_CASE("reused factorisation: low-rank changes of the laws' rows are updates 
 }
 
 TEST_CASE("reused factorisation: a change of high rank or of the blocks' rows factorises again") {
-  std::srand(12);
   constexpr int kBlocks = 30, kRest = 96;  // rank limit 96/12 = 8
-  EliminationBlocks blocks;
-  const Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
-  ReusedFactorization solver(blocks);
-  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
-  Eigen::VectorXd x;
-  REQUIRE(solver.Solve(a, b, &x));
+  Factorised f(12, kBlocks, kRest);
+  const Eigen::MatrixXd& a = f.a;
+  const Eigen::VectorXd& b = f.b;
+  Eigen::VectorXd& x = f.x;
+  ReusedFactorization& solver = *f.solver;
 
   Eigen::MatrixXd high = a;
   ChangeRestRows(kBlocks, 20, &high);
@@ -106,14 +118,10 @@ TEST_CASE("reused factorisation: a change of high rank or of the blocks' rows fa
 }
 
 TEST_CASE("reused factorisation: an update onto a nearly singular system is not trusted") {
-  std::srand(13);
-  constexpr int kBlocks = 10, kRest = 60;
-  EliminationBlocks blocks;
-  const Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
-  ReusedFactorization solver(blocks);
-  const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
-  Eigen::VectorXd x;
-  REQUIRE(solver.Solve(a, b, &x));
+  Factorised f(13, 10, 60);
+  const Eigen::MatrixXd& a = f.a;
+  const Eigen::VectorXd& b = f.b;
+  ReusedFactorization& solver = *f.solver;
   // A rank-one change of the last rest row that makes it (nearly) a copy of another: the
   // capacitance matrix is then near singular and the update's residual is checked.
   Eigen::MatrixXd singular = a;
