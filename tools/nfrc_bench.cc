@@ -494,7 +494,14 @@ int main(int argc, char** argv) {
     if (arg == "accuracy") {
       accuracy = true;
     } else if (arg.rfind("runs=", 0) == 0) {
-      runs = std::max(1, std::atoi(arg.c_str() + 5));
+      char* end = nullptr;
+      const long value = std::strtol(arg.c_str() + 5, &end, 10);
+      if (end == arg.c_str() + 5 || *end != '\0' || value < 1 || value > 1000) {
+        std::fprintf(stderr, "nfrc_bench: runs=N needs a whole number from 1 to 1000, got '%s'\n",
+                     arg.c_str());
+        return 2;
+      }
+      runs = static_cast<int>(value);
     } else {
       sections.push_back(std::atoi(argv[i]));
     }
