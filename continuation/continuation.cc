@@ -58,6 +58,14 @@ double PlotSpan(const ContinuationOptions& options) {
   return range > 0.0 ? range : 1.0;
 }
 
+// The Newton iterations a correction counts for the step control: one more where it was
+// accepted on its contraction, so that target_newton_iterations paces steps as it did when
+// every correction took its confirming iteration (the saved solve is economy, not a sign
+// that a longer step would converge as well).
+int PacedIterations(const CorrectorResult& corrected) {
+  return corrected.iterations + (corrected.error_estimate >= 0.0 ? 1 : 0);
+}
+
 std::string Describe(const std::string& name, double value) { return name + '=' + Number(value); }
 
 // r: ‖R(0, λ_start)‖, the size of the excitation, against which residuals are judged. A
@@ -347,8 +355,9 @@ class Continuer {
     const std::optional<double> chord_error = plotted.chord_error;
     Accept(std::move(record), point, corrected.u, new_tangent, orientation,
            std::move(plotted.sample));
-    if (chord_error) return controller_.AfterPlottedSuccess(h, corrected.iterations, *chord_error);
-    return controller_.AfterSuccess(h, corrected.iterations, smooth_angle);
+    if (chord_error)
+      return controller_.AfterPlottedSuccess(h, PacedIterations(corrected), *chord_error);
+    return controller_.AfterSuccess(h, PacedIterations(corrected), smooth_angle);
   }
 
   // Whether the orientation index at the corrected point with `new_tangent` (`*after`, from
@@ -408,8 +417,9 @@ class Continuer {
     angle_rejection_.reset();
     const std::optional<double> chord_error = plotted.chord_error;
     Accept(std::move(record), point, solved.u, new_tangent, orientation, std::move(plotted.sample));
-    if (chord_error) return controller_.AfterPlottedSuccess(h, solved.iterations, *chord_error);
-    return controller_.AfterSuccess(h, solved.iterations, 0.0);
+    if (chord_error)
+      return controller_.AfterPlottedSuccess(h, PacedIterations(solved), *chord_error);
+    return controller_.AfterSuccess(h, PacedIterations(solved), 0.0);
   }
 
   // With plot_tolerance: the sample at u and the chord's distance from the plotted curve

@@ -24,6 +24,10 @@ constexpr double kDivergenceGrowth = 1e2;
 constexpr int kWatchdogIterations = 3;
 // A residual that falls by less than this factor in one iteration has stalled.
 constexpr double kStallRatio = 0.5;
+// Largest contraction ‖Δu_k‖/‖Δu_{k-1}‖ of two full Newton steps from which the error left
+// after the second is estimated (Deuflhard 2004, §2.1: ‖u_{k+1} − u*‖ ≲ θ‖Δu_k‖/(1 − θ));
+// above it Newton is not yet in its region of fast convergence and the estimate means nothing.
+constexpr double kMaxContraction = 0.25;
 
 enum class Constraint { kArclength, kFixedLambda };
 
@@ -72,6 +76,7 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   bool watching = false;
   double watchdog_merit = 0.0;
   int watchdog_deadline = 0;
+  double previous_full_update = -1.0;  // ‖Δu‖ of the last iteration if taken in full, else < 0
   for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -result.linearization.residual / r;
@@ -145,11 +150,25 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     if (!settings.line_search && merit > kDivergenceGrowth * initial_merit) {
       return Fail(std::move(result), "Newton diverging (residual growing)");
     }
-    if (update_norm <= settings.update_tolerance &&
-        result.residual_norm <= settings.residual_tolerance * r) {
+    const bool residual_small = result.residual_norm <= settings.residual_tolerance * r;
+    if (update_norm <= settings.update_tolerance && residual_small) {
       result.converged = true;
       return result;
     }
+    // Two full steps contracting fast bound the error left after this one: accepted without
+    // the confirming iteration whose update would fall below update_tolerance. The residual
+    // test still guards it, e.g. where a law's sample switched after the contraction.
+    const bool full = alpha == 1.0 && !watching;
+    if (full && previous_full_update > 0.0 && residual_small) {
+      const double theta = update_norm / previous_full_update;
+      if (theta <= kMaxContraction &&
+          update_norm * theta / (1.0 - theta) <= settings.update_tolerance) {
+        result.converged = true;
+        result.error_estimate = update_norm * theta / (1.0 - theta);
+        return result;
+      }
+    }
+    previous_full_update = full ? update_norm : -1.0;
     if (iteration >= 2 && result.residual_norm > settings.residual_tolerance * r &&
         result.residual_norm > kStallRatio * previous_residual) {
       if (result.residual_norm <= kNoiseFactor * noise) {

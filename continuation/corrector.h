@@ -28,10 +28,15 @@ struct CorrectorResult {
   // the residual's rounding floor (ContinuationProblem::ResidualNoise), which is recorded.
   bool at_noise_floor = false;
   double noise_floor = 0.0;
+  // Accepted on the contraction of two full steps (see below): their estimate of the scaled
+  // error left in u, at most update_tolerance; negative if accepted otherwise.
+  double error_estimate = -1.0;
   std::string failure;  // why it did not converge
 };
 
-// Newton stops when the scaled update and the residual are below their tolerances, or, where
+// Newton stops when the scaled update and the residual are below their tolerances; when the
+// residual is, and two full steps contracted by θ ≤ 1/4 with θ‖Δu‖/(1 − θ) below
+// update_tolerance (the error that update leaves, so the confirming iteration is saved); or, where
 // the residual stalls above its tolerance (falls by less than half in an iteration), when it
 // lies within kNoiseFactor of the rounding floor the problem estimates: λ moves at every
 // arclength iteration, and a condensed operator whose rounding moves with λ (a fine mesh)

@@ -184,6 +184,65 @@ TEST_CASE("corrector: converges quadratically through a fold") {
   CHECK(result.residual_norm <= settings.residual_tolerance * settings.residual_scale);
 }
 
+// R = y² − λ²: at λ = 0 the root is double and Newton halves y at every step (θ = 1/2),
+// linear convergence that the contraction rule must not take for fast.
+class SquareProblem : public ContinuationProblem {
+ public:
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    (*residual)(0) = y(0) * y(0) - lambda * lambda;
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = 2.0 * y(0);
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = -2.0 * lambda;
+    return true;
+  }
+};
+
+TEST_CASE("corrector: two fast-contracting steps accept without the confirming iteration") {
+  CubicProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling = UnitScaling(1);
+  NewtonSettings settings;
+  settings.residual_scale = 2.0;
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, scaling, settings, Eigen::Vector2d(3.0, 2.0));
+  REQUIRE(result.converged);
+  // The root of y³/3 − y − 2 by bisection on [2, 3] (R(2) < 0 < R(3)), independent of Newton.
+  double low = 2.0, high = 3.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (low + high);
+    (mid * mid * mid / 3.0 - mid - 2.0 < 0.0 ? low : high) = mid;
+  }
+  const double root = 0.5 * (low + high);
+  // Plain Newton from 3 until its update is below update_tolerance: the old stopping rule.
+  int plain_iterations = 0;
+  for (double y = 3.0;;) {
+    const double update = -(y * y * y / 3.0 - y - 2.0) / (y * y - 1.0);
+    y += update;
+    ++plain_iterations;
+    if (std::abs(update) <= settings.update_tolerance) break;
+  }
+  CHECK(result.error_estimate >= 0.0);
+  CHECK(result.error_estimate <= settings.update_tolerance);
+  CHECK(std::abs(result.u(0) - root) <= settings.update_tolerance);
+  CHECK(result.iterations == plain_iterations - 1);
+}
+
+TEST_CASE("corrector: linear convergence takes the confirming iteration") {
+  SquareProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling = UnitScaling(1);
+  NewtonSettings settings;
+  settings.max_iterations = 60;
+  // At λ = 0 the root is double: Newton halves y, θ = 1/2 is above the rule's 1/4.
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, scaling, settings, Eigen::Vector2d(1.0, 0.0));
+  REQUIRE(result.converged);
+  CHECK(result.error_estimate < 0.0);
+  // The last update y/2 ≤ update_tolerance leaves y ≤ update_tolerance.
+  CHECK(std::abs(result.u(0)) <= settings.update_tolerance);
+}
+
 TEST_CASE("corrector: fixed lambda keeps lambda exactly") {
   CubicProblem problem;
   Evaluator evaluator(problem);
