@@ -213,10 +213,22 @@ void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& co
 
 Eigen::MatrixXd FourierTransform::TimesDerivative(
     const Eigen::Ref<const Eigen::MatrixXd>& m) const {
-  // D is antisymmetric: m·D = (Dᵀmᵀ)ᵀ = −(D·mᵀ)ᵀ, one Differentiate of the rows of m.
-  Eigen::MatrixXd rows = m.transpose();
-  Differentiate(rows, rows);
-  return -rows.transpose();
+  CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
+  // D(cos k, sin k) = k and D(sin k, cos k) = −k: each column of m·D is a scaled column of
+  // m (columns, not rows, of the column-major storage).
+  Eigen::MatrixXd product(m.rows(), m.cols());
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    const int ic = set_.CosIndex(p);
+    if (k == 0) {
+      product.col(ic).setZero();
+      continue;
+    }
+    const int is = set_.SinIndex(p);
+    product.col(ic) = -k * m.col(is);
+    product.col(is) = k * m.col(ic);
+  }
+  return product;
 }
 
 Eigen::MatrixXd FourierTransform::WeightedProduct(
@@ -249,14 +261,15 @@ Eigen::MatrixXd FourierTransform::WeightedProduct(
     sin_index[static_cast<size_t>(p)] = set_.SinIndex(p);
   }
   Eigen::MatrixXd product(n_c, n_c);
-  for (int p = 0; p < n_h; ++p) {
-    const int j = set_.harmonics()[p];
-    const int rc = cos_index[static_cast<size_t>(p)];
-    const int rs = sin_index[static_cast<size_t>(p)];
-    for (int q = 0; q < n_h; ++q) {
-      const int k = set_.harmonics()[q];
-      const int cc = cos_index[static_cast<size_t>(q)];
-      const int cs = sin_index[static_cast<size_t>(q)];
+  // Column by column (q outer): the column-major storage is written in order.
+  for (int q = 0; q < n_h; ++q) {
+    const int k = set_.harmonics()[q];
+    const int cc = cos_index[static_cast<size_t>(q)];
+    const int cs = sin_index[static_cast<size_t>(q)];
+    for (int p = 0; p < n_h; ++p) {
+      const int j = set_.harmonics()[p];
+      const int rc = cos_index[static_cast<size_t>(p)];
+      const int rs = sin_index[static_cast<size_t>(p)];
       if (j == 0 && k == 0) {
         product(rc, cc) = cos_sum(0);
       } else if (j == 0) {
