@@ -24,9 +24,9 @@ constexpr double kDivergenceGrowth = 1e2;
 constexpr int kWatchdogIterations = 3;
 // A residual that falls by less than this factor in one iteration has stalled.
 constexpr double kStallRatio = 0.5;
-// Largest contraction ‖Δu_k‖/‖Δu_{k-1}‖ of two full Newton steps from which the error left
-// after the second is estimated (Deuflhard 2004, §2.1: ‖u_{k+1} − u*‖ ≲ θ‖Δu_k‖/(1 − θ));
-// above it Newton is not yet in its region of fast convergence and the estimate means nothing.
+// Largest contraction θ = ‖Δu_k‖/‖Δu_{k-1}‖ of two full Newton steps from which the error
+// left after the second is estimated, ‖u_{k+1} − u*‖ ≲ θ‖Δu_k‖/(1 − θ) (the later updates as a
+// geometric series); above it Newton is not in its fast region and the estimate means nothing.
 constexpr double kMaxContraction = 0.25;
 
 enum class Constraint { kArclength, kFixedLambda };
