@@ -59,6 +59,21 @@ std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& 
   const std::vector<int>& rest = result.rest_;
   const int num_rest = static_cast<int>(rest.size());
   result.blocks_.resize(blocks.size());
+  // Each block's coupled rest columns, found down the columns (the storage's order; along
+  // the blocks' rows it was a strided read per entry), in increasing order.
+  std::vector<int> block_rows;
+  for (int row = 0; row < size; ++row) {
+    if (block_of[static_cast<size_t>(row)] >= 0) block_rows.push_back(row);
+  }
+  for (int j = 0; j < num_rest; ++j) {
+    const int column = rest[static_cast<size_t>(j)];
+    for (const int row : block_rows) {
+      if (a(row, column) == 0.0) continue;
+      std::vector<int>& coupled =
+          result.blocks_[static_cast<size_t>(block_of[static_cast<size_t>(row)])].coupled;
+      if (coupled.empty() || coupled.back() != j) coupled.push_back(j);
+    }
+  }
   for (size_t k = 0; k < blocks.size(); ++k) {
     Block& block = result.blocks_[k];
     block.unknowns = blocks[k];
@@ -70,15 +85,6 @@ std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& 
     block.lu.compute(block.matrix);
     if (!RegularForElimination(block.lu)) return std::nullopt;
     result.sign_ *= DeterminantSign(block.lu);
-    for (int j = 0; j < num_rest; ++j) {
-      const int column = rest[static_cast<size_t>(j)];
-      for (const int i : block.unknowns) {
-        if (a(i, column) != 0.0) {
-          block.coupled.push_back(j);
-          break;
-        }
-      }
-    }
     const int nc = static_cast<int>(block.coupled.size());
     block.coupling.resize(nb, nc);
     for (int c = 0; c < nc; ++c) {

@@ -178,12 +178,14 @@ stopped "run stopped by SIGHUP" HUP 2 "$work/hup/branch.json" -- \
 stopped "refine stopped by SIGTERM" TERM "stderr:refine: epsilon" "$work/int/refinement.json" -- \
   "$nfrc" refine "$src/cases/rod/rigid.json#nh40" --omega 63953.9 --epsilon0 1e9 --steps 40 \
   --out "$work/int"
-stopped "sweep stopped by SIGTERM" TERM 1 "$work/sweep/sweep.json" -- \
+# Sweeps are stopped once their first run has reported (two or more runs still to go), not
+# after a fixed delay: a whole sweep of these cases takes about a second.
+stopped "sweep stopped by SIGTERM" TERM "stderr:run 0 (" "$work/sweep/sweep.json" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].normal_load" \
-  --values 10,12 --out "$work/sweep"
-expect "sweep resumed" 0 "2 of 2 runs complete" -- \
+  --values 10,12,14 --out "$work/sweep"
+expect "sweep resumed" 0 "3 of 3 runs complete" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].normal_load" \
-  --values 10,12 --out "$work/sweep" --jobs 2
+  --values 10,12,14 --out "$work/sweep" --jobs 2
 expect "sweep of another parameter refused" 1 "--out" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" --parameter "nonlinearities[0].mu" \
   --values 0.5 --out "$work/sweep"
@@ -196,7 +198,7 @@ fgrid=(--parameter "nonlinearities[0].normal_load" --values 10,12
 sigint_default=(/usr/bin/python3 -c 'import os, signal, sys
 signal.signal(signal.SIGINT, signal.SIG_DFL)
 os.execv(sys.argv[1], sys.argv[1:])')
-stopped "grid sweep stopped by SIGINT" INT 1 "$work/grid/sweep.json" -- \
+stopped "grid sweep stopped by SIGINT" INT "stderr:run 0 (" "$work/grid/sweep.json" -- \
   "${sigint_default[@]}" "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]}" --out "$work/grid"
 expect "grid sweep resumed" 0 "4 of 4 runs complete" -- \
   "$nfrc" sweep "$src/cases/friction/frc_n10.json" "${fgrid[@]}" --out "$work/grid" --jobs 2
