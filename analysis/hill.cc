@@ -156,16 +156,14 @@ Eigen::SparseMatrix<double> FromTriplets(const Triplets& triplets, int size) {
 }
 
 // linear + the condensed-layout `law` placed at rows and columns `targets` (one full index
-// per condensed unknown, increasing), merged column by column: the same sums as adding the
-// mapped triplets' matrix, without building and sorting them (a 640 × 640 law's 400 000
-// entries per matrix and point at N_φ = 160).
+// per condensed unknown, increasing; `condensed` is its inverse, −1 off the map), merged
+// column by column: the same sums as adding the mapped triplets' matrix, without building and
+// sorting them (a 640 × 640 law's 400 000 entries per matrix and point at N_φ = 160).
 Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear,
-                                       const Eigen::MatrixXd& law,
-                                       const std::vector<int>& targets) {
+                                       const Eigen::MatrixXd& law, const std::vector<int>& targets,
+                                       const std::vector<int>& condensed) {
   const int size = static_cast<int>(linear.rows());
   const int m = static_cast<int>(law.rows());
-  std::vector<int> condensed(static_cast<size_t>(size), -1);
-  for (int j = 0; j < m; ++j) condensed[static_cast<size_t>(targets[static_cast<size_t>(j)])] = j;
   Eigen::SparseMatrix<double> result(size, size);
   result.reserve(linear.nonZeros() + (law.array() != 0.0).count());
   for (int col = 0; col < size; ++col) {
@@ -212,8 +210,10 @@ struct HillAssembler::Cache {
   Eigen::SparseMatrix<double> mass;       // M⊗I
   std::vector<Targets> map;               // per unknown of the system
   // map's single targets where each unknown has one and they increase (else empty): the
-  // laws' matrices are then merged into the linear ones directly (PlusMapped).
+  // laws' matrices are then merged into the linear ones directly (PlusMapped), and the
+  // inverse: each full unknown's condensed index, −1 for the others.
   std::vector<int> increasing_targets;
+  std::vector<int> condensed_of;
   HillPencil shape;  // set, dynamic, signal offsets, state dimension
 };
 
@@ -288,6 +288,12 @@ HillAssembler::HillAssembler(HarmonicSystem& system)
       break;
     }
     cache.increasing_targets.push_back(index);
+  }
+  if (!cache.increasing_targets.empty()) {
+    cache.condensed_of.assign(static_cast<size_t>(size), -1);
+    for (size_t j = 0; j < cache.increasing_targets.size(); ++j) {
+      cache.condensed_of[static_cast<size_t>(cache.increasing_targets[j])] = static_cast<int>(j);
+    }
   }
 
   HillPencil& shape = cache.shape;
@@ -373,8 +379,8 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   const bool only_jacobians = memory.empty() && laws[0].empty() && laws[1].empty() &&
                               laws[2].empty() && !cache.increasing_targets.empty();
   if (only_jacobians) {
-    pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets);
-    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets);
+    pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets, cache.condensed_of);
+    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of);
     pencil.d2 = cache.mass;
     return pencil;
   }

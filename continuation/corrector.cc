@@ -161,10 +161,10 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     const bool full = alpha == 1.0 && !watching;
     if (full && previous_full_update > 0.0 && residual_small) {
       const double theta = update_norm / previous_full_update;
-      if (theta <= kMaxContraction &&
-          update_norm * theta / (1.0 - theta) <= settings.update_tolerance) {
+      const double error = update_norm * theta / (1.0 - theta);
+      if (theta <= kMaxContraction && error <= settings.update_tolerance) {
         result.converged = true;
-        result.error_estimate = update_norm * theta / (1.0 - theta);
+        result.error_estimate = error;
         return result;
       }
     }
