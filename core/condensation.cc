@@ -1,5 +1,6 @@
 #include "core/condensation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -7,6 +8,7 @@
 #include <utility>
 
 #include "core/lu_factorization.h"
+#include "core/modal_receptance.h"
 #include "core/relative_coordinates.h"
 
 namespace nfrc {
@@ -132,6 +134,16 @@ struct Condensation::Impl {
   std::vector<Eigen::MatrixXcd> z, dz;
   std::vector<Eigen::VectorXcd> f, df;
   bool updated = false;
+  // The modal form (Method::kModal), Φᵀ F per harmonic position, and per position whether
+  // the last Update used it.
+  std::unique_ptr<internal::ModalReceptance> modal;
+  std::vector<Eigen::VectorXcd> modal_forcing;
+  std::vector<char> modal_used;
+  std::vector<Eigen::VectorXcd> modal_inverse;  // 1/d_m per position where used
+  // With obstacles, copies of the modal form's Z_red and F_red before the transform.
+  bool keep_absolute = false;
+  std::vector<Eigen::MatrixXcd> z_absolute;
+  std::vector<Eigen::VectorXcd> f_absolute;
   // Work arrays of size ~n_l reused across harmonics and frequencies.
   std::vector<Complex> values;
   Eigen::MatrixXcd solution, solution_t, product;
@@ -190,6 +202,11 @@ struct Condensation::Impl {
   }
 
   void Condense(int position, int k, double omega);
+
+  // Z_red and F_red of a harmonic the modal form served, in absolute coordinates (before
+  // any obstacle's transform), for Recover and EstimateRounding.
+  const Eigen::MatrixXcd& ModalZ(int p) const { return keep_absolute ? z_absolute[p] : z[p]; }
+  const Eigen::VectorXcd& ModalF(int p) const { return keep_absolute ? f_absolute[p] : f[p]; }
 };
 
 void Condensation::Impl::PrepareSplit(int num_positions) {
@@ -473,7 +490,22 @@ Condensation::Condensation(LinearModel model, std::vector<int> retained, Harmoni
                                        : static_cast<double>(pattern.nonZeros()) /
                                              (static_cast<double>(impl.n_l) * impl.n_l);
   impl.dense = method_ == Method::kDense ||
-               (method_ == Method::kAuto && (n < kDenseLimit || density > kDenseFill));
+               (method_ != Method::kSparse && (n < kDenseLimit || density > kDenseFill));
+  if (method_ == Method::kModal || (method_ == Method::kAuto && impl.n_l > 0)) {
+    std::string reason;
+    impl.modal = internal::ModalReceptance::Make(model_, retained_, &reason);
+    if (!impl.modal && method_ == Method::kModal) {
+      throw std::invalid_argument("method: modal condensation needs " + reason);
+    }
+  }
+  if (impl.modal) {
+    for (int p = 0; p < num_positions; ++p) {
+      Eigen::VectorXcd full = Eigen::VectorXcd::Zero(n);
+      for (int i = 0; i < impl.n_r; ++i) full(retained_[i]) = impl.forcing_r[p](i);
+      for (const auto& [l, value] : impl.forcing_l[p]) full(impl.condensed[l]) += value;
+      impl.modal_forcing.push_back(impl.modal->Project(full));
+    }
+  }
 }
 
 Condensation::~Condensation() = default;
@@ -498,8 +530,23 @@ void Condensation::Update(double omega) {
     impl.analysis = std::make_unique<internal::SparseAnalysis>(impl.ll.csc);
   }
   if (!impl.split_prepared) impl.PrepareSplit(num_positions);
+  impl.modal_used.assign(num_positions, 0);
+  impl.modal_inverse.resize(num_positions);
+  impl.keep_absolute = impl.modal && !compliance_.empty();
+  impl.z_absolute.resize(impl.keep_absolute ? num_positions : 0);
+  impl.f_absolute.resize(impl.keep_absolute ? num_positions : 0);
   for (int p = 0; p < num_positions; ++p) {
-    impl.Condense(p, set_.harmonics()[p], omega);
+    const int k = set_.harmonics()[p];
+    if (impl.modal && impl.modal->Condense(k, omega, impl.modal_forcing[p], &impl.modal_inverse[p],
+                                           &impl.z[p], &impl.dz[p], &impl.f[p], &impl.df[p])) {
+      impl.modal_used[p] = 1;
+      if (impl.keep_absolute) {
+        impl.z_absolute[p] = impl.z[p];
+        impl.f_absolute[p] = impl.f[p];
+      }
+    } else {
+      impl.Condense(p, k, omega);
+    }
     if (!compliance_.empty()) {
       const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(compliance_.data(), impl.n_r);
       RelativeBlock relative =
@@ -522,7 +569,15 @@ void Condensation::set_static_split(bool on) {
   omega_ = std::numeric_limits<double>::quiet_NaN();
 }
 
-bool Condensation::static_split() const { return impl_->split; }
+bool Condensation::static_split() const {
+  const std::vector<char>& used = impl_->modal_used;
+  return impl_->split && std::find(used.begin(), used.end(), 0) != used.end();
+}
+
+bool Condensation::modal() const {
+  const std::vector<char>& used = impl_->modal_used;
+  return impl_->updated && std::find(used.begin(), used.end(), 0) == used.end();
+}
 
 void Condensation::SetObstacleCompliance(std::vector<double> compliance) {
   if (static_cast<int>(compliance.size()) != num_retained()) {
@@ -573,6 +628,11 @@ Condensation::Rounding Condensation::EstimateRounding() const {
     rounding.z.push_back(Eigen::MatrixXd::Zero(impl.n_r, impl.n_r));
     rounding.f.push_back(Eigen::VectorXd::Zero(impl.n_r));
     if (impl.n_l == 0) continue;
+    if (impl.modal_used[p]) {
+      impl.modal->Rounding(impl.modal_inverse[p], impl.modal_forcing[p], impl.ModalZ(p),
+                           &rounding.z[p], &rounding.f[p]);
+      continue;
+    }
     const Weights w = StiffnessWeights(set_.harmonics()[p], omega_);
     // The right-hand sides b as Condense has them.
     Eigen::MatrixXcd b;
@@ -625,7 +685,11 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
     }
     if (impl.n_l == 0) continue;
     const Weights w = StiffnessWeights(k, omega_);
-    if (impl.split) {
+    if (impl.modal_used[p]) {
+      const Eigen::VectorXcd all = impl.modal->Recover(impl.modal_inverse[p], impl.modal_forcing[p],
+                                                       impl.ModalZ(p), impl.ModalF(p), x_r);
+      for (int l = 0; l < impl.n_l; ++l) x_l(l) = all(impl.condensed[l]);
+    } else if (impl.split) {
       // x_l = Φ x_r + Z_ll⁻¹ (F_l − EᵀDT x_r): Z_lr = EᵀDT − Z_ll Φ.
       x_l.setZero(impl.n_l, 1);
       impl.CondensedRhs(p, w, Eigen::VectorXcd(), x_l, 0);

@@ -18,15 +18,20 @@ namespace nfrc {
 class Condensation {
  public:
   enum class Method {
-    kAuto,    // dense below kDenseLimit DOFs or above kDenseFill fill of Z_ll, else sparse
+    kAuto,    // kModal where the model qualifies and some DOF is condensed; else dense below
+              // kDenseLimit DOFs or above kDenseFill fill of Z_ll, else sparse
     kDense,   // dense LU per harmonic
     kSparse,  // SuiteSparse sparse LU per harmonic (KLU, or UMFPACK if fill is heavy)
+    kModal,   // through the modes of the whole model (core/modal_receptance.h): small,
+              // symmetric, proportionally damped models; a harmonic where the modal form is
+              // unusable (an undamped resonance) takes the direct form as kAuto would
   };
   static constexpr int kDenseLimit = 64;
   static constexpr double kDenseFill = 0.2;
 
   // Throws std::invalid_argument if a retained DOF or a forcing DOF is out of range or
-  // repeated in `retained`, or a forcing harmonic is not in `set`.
+  // repeated in `retained`, a forcing harmonic is not in `set`, or kModal is asked of a
+  // model that does not qualify (the reason named).
   Condensation(LinearModel model, std::vector<int> retained, HarmonicSet set,
                std::vector<ForcingTerm> forcing, Method method = Method::kAuto);
   ~Condensation();
@@ -40,8 +45,10 @@ class Condensation {
   // 5`; tests/core/condensation_chain_test.cc). It is used when K_ll is regular; otherwise (a
   // mechanism once the retained DOFs are held) the direct form is. Set before Update.
   void set_static_split(bool on);
-  // Whether the last Update used the static split.
+  // Whether the last Update used the static split (on some harmonic).
   bool static_split() const;
+  // Whether the last Update condensed every harmonic through the modes (Method::kModal).
+  bool modal() const;
 
   // Factorises and condenses at ω (no-op if already at ω). Throws std::runtime_error
   // naming the harmonic and ω if Z_ll is singular there.

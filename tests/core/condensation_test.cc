@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <Eigen/Eigenvalues>
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -278,15 +280,23 @@ TEST_CASE("Condensation with a stiffness-free interior DOF uses the direct form"
   CheckDerivatives(model, {0, 2}, set, forcing, Method::kAuto, 0.9);
 }
 
-TEST_CASE("Condensation reports a singular Z_ll with harmonic and frequency") {
-  // Condensed DOF 1: k = 4, m = 1, no damping, so Z_ll of harmonic 1 vanishes at ω = 2.
+// K = [[3, −1], [−1, 4]], M = I, C = 0: undamped, so that Z_ll (DOF 1 condensed) vanishes at
+// Ω = 2 and the whole model resonates at Ω² = (7 ∓ √5)/2.
+LinearModel UndampedPair() {
   LinearModel model;
   const Eigen::Matrix2d k{{3.0, -1.0}, {-1.0, 4.0}};
   model.stiffness = k.sparseView();
   model.mass = Eigen::Matrix2d::Identity().sparseView();
   model.damping.resize(2, 2);
+  return model;
+}
+
+TEST_CASE("Condensation reports a singular Z_ll with harmonic and frequency") {
+  // Condensed DOF 1: k = 4, m = 1, no damping, so Z_ll of harmonic 1 vanishes at ω = 2.
+  const LinearModel model = UndampedPair();
   const HarmonicSet set(3, true);
-  for (Method method : {Method::kDense, Method::kSparse}) {
+  // kModal: H_rr vanishes there, so that harmonic takes the direct form, which reports it.
+  for (Method method : {Method::kDense, Method::kSparse, Method::kModal}) {
     Condensation condensation(model, {0}, set, {}, method);
     CHECK_THROWS_WITH_AS(condensation.Update(2.0), doctest::Contains("harmonic 1, omega = 2"),
                          std::runtime_error);
@@ -297,6 +307,130 @@ TEST_CASE("Condensation reports a singular Z_ll with harmonic and frequency") {
     CHECK(z.real() == doctest::Approx(3.0 - 2.25 - 1.0 / (4.0 - 2.25)));
     CHECK(z.imag() == 0.0);
   }
+}
+
+// A symmetric n-DOF model (M and K positive definite) with proportional damping: Rayleigh,
+// C = 0.1 M + 0.05 K, or modal, C = M Φ diag(2ζ_m ω_m) Φᵀ M with ζ_m = 0.1 (1 + 0.2 m) from
+// the mass-normalised modes Φ of (K, M), assembled in floating point as the rod's is. The
+// modes lie at 1.3–2.3 rad/s; damping of 6–24 % keeps the harmonics near them smooth enough
+// for CheckDerivatives' central differences (at 1 %, harmonic 3 at ω = 1.3 measured 1e-6).
+LinearModel ProportionalModel(int n, bool modal_damping, unsigned seed) {
+  std::srand(seed);
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd m = a.transpose() * a + n * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd k = 3.0 * (b.transpose() * b + n * Eigen::MatrixXd::Identity(n, n));
+  Eigen::MatrixXd c = 0.1 * m + 0.05 * k;
+  if (modal_damping) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(k, m);
+    Eigen::VectorXd rates(n);
+    for (int i = 0; i < n; ++i)
+      rates(i) = 2.0 * 0.1 * (1 + 0.2 * i) * std::sqrt(modes.eigenvalues()(i));
+    c = m * modes.eigenvectors() * rates.asDiagonal() * modes.eigenvectors().transpose() * m;
+  }
+  LinearModel model;
+  model.mass = m.sparseView();
+  model.stiffness = k.sparseView();
+  model.damping = c.sparseView();
+  return model;
+}
+
+TEST_CASE("Modal condensation of proportionally damped models equals the full solve") {
+  // The same well-conditioned 8-DOF setting as the dense and sparse forms above, and the same
+  // 1e-10: the modal sums and the full solve agree to ~1e-14.
+  constexpr double kTol = 1e-10;
+  const std::vector<int> retained = {5, 1, 6};
+  const std::vector<ForcingTerm> full_forcing = {{.dof = 5, .harmonic = 1, .cos = 1.0, .sin = 0.5},
+                                                 {.dof = 2, .harmonic = 1, .cos = -0.3, .sin = 0.7},
+                                                 {.dof = 7, .harmonic = 3, .cos = 0.2, .sin = -1.0},
+                                                 {.dof = 0, .harmonic = 0, .cos = 0.4, .sin = 0.0}};
+  const std::vector<ForcingTerm> odd_forcing(full_forcing.begin(), full_forcing.begin() + 3);
+  const HarmonicSet full(3, false);
+  const HarmonicSet odd(5, true);
+  for (bool modal_damping : {false, true}) {
+    INFO("modal damping " << modal_damping);
+    const LinearModel model = ProportionalModel(8, modal_damping, 11);
+    for (const std::vector<int>& kept : {retained, std::vector<int>{3}}) {
+      CheckAgainstFullSolve(model, kept, full, full_forcing, Method::kModal, 1.3, kTol);
+      CheckAgainstFullSolve(model, kept, odd, odd_forcing, Method::kModal, 0.8, kTol);
+      CheckDerivatives(model, kept, full, full_forcing, Method::kModal, 1.3);
+      CheckDerivatives(model, kept, odd, odd_forcing, Method::kModal, 0.8);
+    }
+    // kAuto takes the modal form here, and every harmonic used it.
+    Condensation automatic(model, retained, full, full_forcing);
+    automatic.Update(1.3);
+    CHECK(automatic.modal());
+    CHECK_FALSE(automatic.static_split());
+    // Its rounding estimate covers the difference from the dense LU's result, itself
+    // within the dense form's own estimate.
+    Condensation dense(model, retained, full, full_forcing, Method::kDense);
+    dense.Update(1.3);
+    const Condensation::Rounding modal_rounding = automatic.EstimateRounding();
+    const Condensation::Rounding dense_rounding = dense.EstimateRounding();
+    for (int p = 0; p < full.num_harmonics(); ++p) {
+      INFO("harmonic " << full.harmonics()[p]);
+      const Eigen::MatrixXd bound = modal_rounding.z[p] + dense_rounding.z[p];
+      CHECK(((automatic.Z(p) - dense.Z(p)).cwiseAbs().array() <= bound.array()).all());
+      CHECK(modal_rounding.z[p].maxCoeff() > 0.0);
+      // Not an empty bound: within 1e3 eps of |Z|.
+      CHECK(modal_rounding.z[p].maxCoeff() < 1e3 * 2.2e-16 * dense.Z(p).cwiseAbs().maxCoeff());
+      const Eigen::VectorXd f_bound = modal_rounding.f[p] + dense_rounding.f[p];
+      CHECK(((automatic.F(p) - dense.F(p)).cwiseAbs().array() <= f_bound.array()).all());
+    }
+  }
+}
+
+TEST_CASE("Modal condensation names why a model does not qualify") {
+  const HarmonicSet set(3, true);
+  const auto modal = [&](const LinearModel& model) {
+    Condensation condensation(model, {0}, set, {}, Method::kModal);
+  };
+  // Random damping: not diagonal in the modes.
+  LinearModel model = ProportionalModel(6, false, 12);
+  LinearModel random_damping = model;
+  random_damping.damping = RandomModel(6, true, 13).damping;
+  CHECK_THROWS_WITH_AS(modal(random_damping), doctest::Contains("method: modal condensation"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(modal(random_damping), doctest::Contains("C is not diagonal"),
+                       std::invalid_argument);
+  LinearModel asymmetric = model;
+  asymmetric.stiffness.coeffRef(0, 1) += 0.5;
+  CHECK_THROWS_WITH_AS(modal(asymmetric), doctest::Contains("symmetric"), std::invalid_argument);
+  LinearModel massless = model;
+  massless.mass = Eigen::MatrixXd(Eigen::MatrixXd(model.mass).array() * 0.0).sparseView();
+  CHECK_THROWS_WITH_AS(modal(massless), doctest::Contains("M is not positive definite"),
+                       std::invalid_argument);
+  // A free-free pair (a rigid-body mode): H(0) does not exist.
+  LinearModel free;
+  const Eigen::Matrix2d k{{1.0, -1.0}, {-1.0, 1.0}};
+  free.stiffness = k.sparseView();
+  free.mass = Eigen::Matrix2d::Identity().sparseView();
+  free.damping = (0.01 * k).sparseView();
+  CHECK_THROWS_WITH_AS(modal(free), doctest::Contains("K is not positive definite"),
+                       std::invalid_argument);
+  // kAuto condenses all of them the direct way.
+  for (const LinearModel& m : {random_damping, asymmetric}) {
+    Condensation automatic(m, {0}, set, {});
+    automatic.Update(0.7);
+    CHECK_FALSE(automatic.modal());
+  }
+}
+
+TEST_CASE("Modal condensation at an undamped resonance of the whole model takes the direct form") {
+  // K = [[3, −1], [−1, 4]], M = I, C = 0: the whole model resonates at Ω² = (7 − √5)/2, where
+  // 1/d_0 does not exist, while Z_ll = 4 − Ω² is regular and Z_red = 3 − Ω² − 1/(4 − Ω²).
+  const LinearModel model = UndampedPair();
+  const HarmonicSet set(3, true);
+  Condensation condensation(model, {0}, set, {}, Method::kModal);
+  const double squared = (7.0 - std::sqrt(5.0)) / 2.0;
+  condensation.Update(std::sqrt(squared));
+  CHECK_FALSE(condensation.modal());
+  // Z_red vanishes there (one retained DOF of a singular Z): to the rounding of 3 − Ω² − ….
+  constexpr double kCancellationTol = 1e-14;
+  CHECK(std::abs(condensation.Z(0)(0, 0)) < kCancellationTol);
+  // Harmonic 3 is off resonance and modal; both forms agree with the closed form.
+  const double z3 = 3.0 - 9.0 * squared - 1.0 / (4.0 - 9.0 * squared);
+  CHECK(std::abs(condensation.Z(1)(0, 0) - z3) < kCancellationTol * std::abs(z3) * 10);
 }
 
 }  // namespace

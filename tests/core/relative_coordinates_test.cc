@@ -169,35 +169,40 @@ constexpr double kFdTolerance = 1e-7;
 TEST_CASE("relative coordinates: dZ_r and dF_r of a Condensation match central differences") {
   const HarmonicSet set(2, false);
   const std::vector<int> retained = {4, 2};
-  Condensation condensation(Chain(5), retained, set, Forcing());
-  condensation.SetObstacleCompliance({0.4, 2.0});
-  const double omega = 0.9;
-  const double h = kFdStep * omega;
-  for (int p = 0; p < set.num_harmonics(); ++p) {
-    CAPTURE(set.harmonics()[p]);
-    condensation.Update(omega + h);
-    const Eigen::MatrixXcd z_plus = condensation.Z(p);
-    const Eigen::VectorXcd f_plus = condensation.F(p);
-    condensation.Update(omega - h);
-    const Eigen::MatrixXcd z_minus = condensation.Z(p);
-    const Eigen::VectorXcd f_minus = condensation.F(p);
-    condensation.Update(omega);
-    const Eigen::MatrixXcd dz_fd = (z_plus - z_minus) / (2 * h);
-    const Eigen::VectorXcd df_fd = (f_plus - f_minus) / (2 * h);
-    if (set.harmonics()[p] == 0) {
-      // K condensed: independent of ω, both ways.
-      CHECK(condensation.dZ(p).cwiseAbs().maxCoeff() == 0.0);
-      CHECK(dz_fd.cwiseAbs().maxCoeff() == 0.0);
-      continue;
+  // The chain's Rayleigh damping qualifies for the modal form: both forms are checked.
+  for (Condensation::Method method : {Condensation::Method::kModal, Condensation::Method::kDense}) {
+    CAPTURE(static_cast<int>(method));
+    Condensation condensation(Chain(5), retained, set, Forcing(), method);
+    condensation.SetObstacleCompliance({0.4, 2.0});
+    const double omega = 0.9;
+    const double h = kFdStep * omega;
+    for (int p = 0; p < set.num_harmonics(); ++p) {
+      CAPTURE(set.harmonics()[p]);
+      condensation.Update(omega + h);
+      const Eigen::MatrixXcd z_plus = condensation.Z(p);
+      const Eigen::VectorXcd f_plus = condensation.F(p);
+      condensation.Update(omega - h);
+      const Eigen::MatrixXcd z_minus = condensation.Z(p);
+      const Eigen::VectorXcd f_minus = condensation.F(p);
+      condensation.Update(omega);
+      const Eigen::MatrixXcd dz_fd = (z_plus - z_minus) / (2 * h);
+      const Eigen::VectorXcd df_fd = (f_plus - f_minus) / (2 * h);
+      if (set.harmonics()[p] == 0) {
+        // K condensed: independent of ω, both ways.
+        CHECK(condensation.dZ(p).cwiseAbs().maxCoeff() == 0.0);
+        CHECK(dz_fd.cwiseAbs().maxCoeff() == 0.0);
+        continue;
+      }
+      // Scale: the derivatives themselves, which are O(1) here.
+      CHECK(RelError(condensation.dZ(p), dz_fd) < kFdTolerance);
+      CHECK(RelError(condensation.dF(p), df_fd) < kFdTolerance);
+      // The real forms carry the same numbers.
+      const Eigen::MatrixXd rows = condensation.RealOperatorRows(0, true);
+      const int nc = set.NumCoefficients();
+      CHECK(rows(set.CosIndex(p), set.CosIndex(p)) == condensation.dZ(p)(0, 0).real());
+      CHECK(rows(set.CosIndex(p), nc + set.SinIndex(p)) == condensation.dZ(p)(0, 1).imag());
     }
-    // Scale: the derivatives themselves, which are O(1) here.
-    CHECK(RelError(condensation.dZ(p), dz_fd) < kFdTolerance);
-    CHECK(RelError(condensation.dF(p), df_fd) < kFdTolerance);
-    // The real forms carry the same numbers.
-    const Eigen::MatrixXd rows = condensation.RealOperatorRows(0, true);
-    const int nc = set.NumCoefficients();
-    CHECK(rows(set.CosIndex(p), set.CosIndex(p)) == condensation.dZ(p)(0, 0).real());
-    CHECK(rows(set.CosIndex(p), nc + set.SinIndex(p)) == condensation.dZ(p)(0, 1).imag());
+    CHECK(condensation.modal() == (method == Condensation::Method::kModal));
   }
 }
 
@@ -218,64 +223,68 @@ TEST_CASE("relative coordinates: Recover returns the absolute displacements of a
   const std::vector<int> retained = {4, 1, 2};
   const std::vector<double> compliance = {0.5, 0.0, 0.25};
   const std::vector<double> interface = {3.0, 0.0, 1.5};  // k_c per retained DOF
-  Condensation condensation(model, retained, set, Forcing());
-  condensation.SetObstacleCompliance(compliance);
-  REQUIRE(condensation.has_obstacles());
+  for (Condensation::Method method : {Condensation::Method::kModal, Condensation::Method::kDense}) {
+    CAPTURE(static_cast<int>(method));
+    Condensation condensation(model, retained, set, Forcing(), method);
+    condensation.SetObstacleCompliance(compliance);
+    REQUIRE(condensation.has_obstacles());
 
-  for (double omega : {0.4, 1.3}) {
-    CAPTURE(omega);
-    condensation.Update(omega);
-    // Condensed solve in relative coordinates, in nfrc's real layout.
-    Eigen::MatrixXd a = condensation.RealOperator();
-    for (int i = 0; i < 3; ++i) {
-      a.block(i * nc, i * nc, nc, nc).diagonal().array() += interface[i];
-    }
-    const Eigen::VectorXd x_rel = a.partialPivLu().solve(condensation.RealForcing());
-    const Eigen::MatrixXd recovered = condensation.Recover(x_rel);
-    REQUIRE(recovered.rows() == n);
+    for (double omega : {0.4, 1.3}) {
+      CAPTURE(omega);
+      condensation.Update(omega);
+      // Condensed solve in relative coordinates, in nfrc's real layout.
+      Eigen::MatrixXd a = condensation.RealOperator();
+      for (int i = 0; i < 3; ++i) {
+        a.block(i * nc, i * nc, nc, nc).diagonal().array() += interface[i];
+      }
+      const Eigen::VectorXd x_rel = a.partialPivLu().solve(condensation.RealForcing());
+      const Eigen::MatrixXd recovered = condensation.Recover(x_rel);
+      REQUIRE(recovered.rows() == n);
 
-    // Augmented model: DOFs 0..4 of the chain, then obstacle DOFs 5 (behind 4) and 6
-    // (behind 2), each massless and undamped, joined to its DOF by k_c and to ground by k_obs.
-    const int n_aug = n + 2;
-    const std::vector<std::pair<int, int>> obstacle = {{0, 5}, {2, 6}};  // (retained i, DOF)
-    for (int p = 0; p < set.num_harmonics(); ++p) {
-      const int k = set.harmonics()[p];
-      CAPTURE(k);
-      Eigen::MatrixXcd z = Eigen::MatrixXcd::Zero(n_aug, n_aug);
-      z.topLeftCorner(n, n) = DenseZ(model, k, omega);
-      for (const auto& [i, o] : obstacle) {
-        const int s = retained[i];
-        z(s, s) += interface[i];
-        z(o, o) += interface[i] + 1.0 / compliance[i];
-        z(s, o) -= interface[i];
-        z(o, s) -= interface[i];
-      }
-      Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n_aug);
-      for (const ForcingTerm& t : Forcing()) {
-        if (t.harmonic == k) f(t.dof) += Complex(t.cos, k == 0 ? 0.0 : -t.sin);
-      }
-      const Eigen::VectorXcd x = z.partialPivLu().solve(f);
-      // Real coefficients a = Re X, b = −Im X.
-      Eigen::VectorXd expected(n), got(n);
-      for (int dof = 0; dof < n; ++dof) {
-        expected(dof) = x(dof).real();
-        got(dof) = recovered(dof, set.CosIndex(p));
-      }
-      const double scale = x.head(n).cwiseAbs().maxCoeff();
-      CHECK((got - expected).cwiseAbs().maxCoeff() < kRecoverTolerance * scale);
-      if (k != 0) {
-        for (int dof = 0; dof < n; ++dof) {
-          expected(dof) = -x(dof).imag();
-          got(dof) = recovered(dof, set.SinIndex(p));
+      // Augmented model: DOFs 0..4 of the chain, then obstacle DOFs 5 (behind 4) and 6
+      // (behind 2), each massless and undamped, joined to its DOF by k_c and to ground by k_obs.
+      const int n_aug = n + 2;
+      const std::vector<std::pair<int, int>> obstacle = {{0, 5}, {2, 6}};  // (retained i, DOF)
+      for (int p = 0; p < set.num_harmonics(); ++p) {
+        const int k = set.harmonics()[p];
+        CAPTURE(k);
+        Eigen::MatrixXcd z = Eigen::MatrixXcd::Zero(n_aug, n_aug);
+        z.topLeftCorner(n, n) = DenseZ(model, k, omega);
+        for (const auto& [i, o] : obstacle) {
+          const int s = retained[i];
+          z(s, s) += interface[i];
+          z(o, o) += interface[i] + 1.0 / compliance[i];
+          z(s, o) -= interface[i];
+          z(o, s) -= interface[i];
         }
+        Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n_aug);
+        for (const ForcingTerm& t : Forcing()) {
+          if (t.harmonic == k) f(t.dof) += Complex(t.cos, k == 0 ? 0.0 : -t.sin);
+        }
+        const Eigen::VectorXcd x = z.partialPivLu().solve(f);
+        // Real coefficients a = Re X, b = −Im X.
+        Eigen::VectorXd expected(n), got(n);
+        for (int dof = 0; dof < n; ++dof) {
+          expected(dof) = x(dof).real();
+          got(dof) = recovered(dof, set.CosIndex(p));
+        }
+        const double scale = x.head(n).cwiseAbs().maxCoeff();
         CHECK((got - expected).cwiseAbs().maxCoeff() < kRecoverTolerance * scale);
+        if (k != 0) {
+          for (int dof = 0; dof < n; ++dof) {
+            expected(dof) = -x(dof).imag();
+            got(dof) = recovered(dof, set.SinIndex(p));
+          }
+          CHECK((got - expected).cwiseAbs().maxCoeff() < kRecoverTolerance * scale);
+        }
+        // The relative unknowns are x − x_obs of the full solve.
+        for (const auto& [i, o] : obstacle) {
+          const Complex relative = x(retained[i]) - x(o);
+          CHECK(std::abs(x_rel(i * nc + set.CosIndex(p)) - relative.real()) <
+                kRecoverTolerance * scale);
+        }
       }
-      // The relative unknowns are x − x_obs of the full solve.
-      for (const auto& [i, o] : obstacle) {
-        const Complex relative = x(retained[i]) - x(o);
-        CHECK(std::abs(x_rel(i * nc + set.CosIndex(p)) - relative.real()) <
-              kRecoverTolerance * scale);
-      }
+      CHECK(condensation.modal() == (method == Condensation::Method::kModal));
     }
   }
 }
