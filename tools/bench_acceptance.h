@@ -11,8 +11,12 @@ namespace nfrc::bench {
 // iterations, bifurcations and, with `accuracy`, the curve's accuracy against a reference traced
 // with a tenth of the maximum step (see CurveDeviation). Also one friction point at N_φ = 640.
 // runs > 1: that many rounds of every case in turn (accuracy only in the first), then each
-// case's fastest and median time, in ms and in its own child's LU(320).
-void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs = 1);
+// case's fastest and median time, in ms and in its own child's LU(320), and its fewest /
+// median / most points where they differ. perturb: round r traces a copy whose first forcing
+// term is scaled by 1 + r·4.4e-16, so that the summary spans the step sequences a curve
+// takes under rounding-level changes instead of one draw.
+void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs = 1,
+                     bool perturb = false);
 
 // Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
 // friction force's step weights 1, 0.3 (the default), 0.1 and 0 (HarmonicSystem::
