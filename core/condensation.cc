@@ -526,10 +526,6 @@ void Condensation::Update(double omega) {
   impl.dz.resize(num_positions);
   impl.f.resize(num_positions);
   impl.df.resize(num_positions);
-  if (impl.n_l > 0 && !impl.dense && !impl.analysis) {
-    impl.analysis = std::make_unique<internal::SparseAnalysis>(impl.ll.csc);
-  }
-  if (!impl.split_prepared) impl.PrepareSplit(num_positions);
   impl.modal_used.assign(num_positions, 0);
   impl.modal_inverse.resize(num_positions);
   impl.keep_absolute = impl.modal && !compliance_.empty();
@@ -545,6 +541,12 @@ void Condensation::Update(double omega) {
         impl.f_absolute[p] = impl.f[p];
       }
     } else {
+      // The direct form's set-up, once, and only if a harmonic needs it (the modal form
+      // serves every harmonic of a qualifying model but at an undamped resonance).
+      if (impl.n_l > 0 && !impl.dense && !impl.analysis) {
+        impl.analysis = std::make_unique<internal::SparseAnalysis>(impl.ll.csc);
+      }
+      if (!impl.split_prepared) impl.PrepareSplit(num_positions);
       impl.Condense(p, k, omega);
     }
     if (!compliance_.empty()) {

@@ -63,6 +63,7 @@ std::unique_ptr<ModalReceptance> ModalReceptance::Make(const LinearModel& model,
   }
   modal->stiffness_ = lambda;
   modal->retained_modes_ = modal->modes_(retained, Eigen::all);
+  modal->largest_retained_square_ = modal->retained_modes_.cwiseAbs2().maxCoeff();
   return modal;
 }
 
@@ -118,8 +119,7 @@ bool ModalReceptance::Condense(int k, double omega, const Eigen::VectorXcd& moda
   // A pivot of H_rr at the rounding level of its terms is zero: Z_ll is singular there.
   double largest_term = 0.0;
   for (int m = 0; m < n; ++m) largest_term = std::max(largest_term, std::abs((*inverse)(m)));
-  const double pivot_floor =
-      kRoundingsPerTerm * n * kEps * largest_term * retained_modes_.cwiseAbs2().maxCoeff();
+  const double pivot_floor = kRoundingsPerTerm * n * kEps * largest_term * largest_retained_square_;
   if (n_r == 1) {
     if (!(std::abs(h_(0, 0)) > pivot_floor)) return false;
     z->resize(1, 1);
@@ -160,7 +160,11 @@ Eigen::VectorXcd ModalReceptance::Recover(const Eigen::VectorXcd& inverse,
   const Eigen::VectorXcd modal =
       (modal_forcing - retained_modes_.transpose().cast<Complex>() * interface)
           .cwiseProduct(inverse);
-  return modes_.cast<Complex>() * modal;
+  // Φ is real: two real products instead of a complex copy of the n × n modes per harmonic.
+  Eigen::VectorXcd x(num_dofs());
+  x.real() = modes_ * modal.real();
+  x.imag() = modes_ * modal.imag();
+  return x;
 }
 
 void ModalReceptance::Rounding(const Eigen::VectorXcd& inverse,
