@@ -17,8 +17,8 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kMinStiffnessRatio = 1e-12;
 
 // Off-diagonal entries of ΦᵀCΦ up to this fraction of its largest diagonal one are rounding
-// (Rayleigh and modal damping measure ~1e-15): dropping them moves Z_red by less than the
-// 1e-10 within which the modal form must agree with the direct one.
+// (Rayleigh and modal damping leave ~n·eps of it there): dropping them moves Z_red by less
+// than the 1e-10 within which the modal form must agree with the direct one.
 constexpr double kDiagonalTolerance = 1e-11;
 
 // Roundings per term of a modal sum (a product of mode entries, a division, an accumulation,
