@@ -19,8 +19,11 @@ Eigen::SparseMatrix<double> ModalDamping(const Eigen::SparseMatrix<double>& mass
                                          double ratio) {
   const std::string field = "model.damping.modal_ratio";
   if (mass.rows() > kMaxModalDofs) {
-    throw InputError(field + ": modal damping needs every mode; models above " +
-                     std::to_string(kMaxModalDofs) + " DOFs must use Rayleigh damping");
+    throw InputError(field + ": modal damping needs every mode of the model (a dense " +
+                     "eigenproblem); above " + std::to_string(kMaxModalDofs) +
+                     " DOFs (this one has " + std::to_string(mass.rows()) +
+                     ") use Rayleigh damping, or model.reduction, " +
+                     "whose modal_ratio damps the reduced model's modes");
   }
   const Eigen::MatrixXd m = Eigen::MatrixXd(mass);
   const Eigen::MatrixXd k = Eigen::MatrixXd(stiffness);

@@ -186,6 +186,8 @@ case_error("rod_elements_1e6", ROD, setitem(["model", "elements"], 1000000), "mo
 case_error("rod_length_negative", ROD, setitem(["model", "length"], -1), "model.length")
 case_error("modal_damping_negative", ROD, setitem(["model", "damping"], {"modal_ratio": -1}),
            "model.damping.modal_ratio")
+case_error("modal_damping_too_large", ROD, setitem(["model", "elements"], 1001),
+           "model.damping.modal_ratio", "1001")
 case_error("reduction_modes_negative", ROD,
            setitem(["model", "reduction"], {"type": "craig_bampton", "modes": -1}),
            "model.reduction.modes")

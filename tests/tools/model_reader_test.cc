@@ -130,6 +130,11 @@ TEST_CASE("bad model objects name the field") {
   CHECK(BuildError(R"({"type": "matrices", "M": [[1]], "K": [[1]], "forcing": [],
                        "damping": {"modal_ratio": -0.1}})") ==
         "model.damping.modal_ratio: must be non-negative");
+  // Refused before any eigenproblem: the message names the field and the size.
+  CHECK(BuildError(R"({"type": "rod", "elements": 1001, "length": 1, "area": 1, "young": 1,
+                       "density": 1, "damping": {"modal_ratio": 0.01}, "forcing": []})")
+            .find("model.damping.modal_ratio: modal damping needs every mode of the model (a "
+                  "dense eigenproblem); above 1000 DOFs (this one has 1001)") == 0);
 }
 
 // Undamped eigenfrequencies (rad/s) of a model.
