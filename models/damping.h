@@ -12,8 +12,8 @@ Eigen::SparseMatrix<double> RayleighDamping(const Eigen::SparseMatrix<double>& m
 // Modal damping with ratio ζ in every mode: C = M Φ diag(2ζω_i) Φᵀ M with mass-normalised
 // modes Φ of the symmetric pencil (K, M). Dense (all modes), so limited to kMaxModalDofs;
 // throws InputError("model.damping.modal_ratio: ...") above it or if M is not positive
-// definite. The limit bounds the reading of a case: the dense eigenproblem takes ~1 s at
-// 1000 DOFs here and grows as n³ (11 s at 2000), before the trace says anything.
+// definite. The limit bounds the reading of a case: the dense eigenproblem grows as n³ and
+// runs before the trace reports anything.
 inline constexpr int kMaxModalDofs = 1000;
 Eigen::SparseMatrix<double> ModalDamping(const Eigen::SparseMatrix<double>& mass,
                                          const Eigen::SparseMatrix<double>& stiffness,
