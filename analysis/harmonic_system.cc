@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "continuation/dense_lu.h"
 #include "core/errors.h"
 
 namespace nfrc {
@@ -230,9 +231,9 @@ Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
   }
   // Partial pivoting sees a singular Z as a FullPivLU would (a DOF without stiffness or mass
   // leaves a pivot at rounding level; the threshold is FullPivLU's default, ε·n·max pivot)
-  // and is blocked: 0.25 s of the 5 s of the start at N_φ = 640 (1 280 unknowns in Z).
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(z_);
-  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
+  // and is blocked (LAPACK's at 1 280 unknowns in Z, N_φ = 640: DenseLu).
+  const DenseLu lu(z_);
+  const Eigen::VectorXd pivots = lu.Pivots().cwiseAbs();
   const double threshold = std::numeric_limits<double>::epsilon() * static_cast<double>(z_.rows()) *
                            (pivots.size() > 0 ? pivots.maxCoeff() : 0.0);
   if (pivots.size() > 0 && !(pivots.minCoeff() > threshold)) {
@@ -241,7 +242,7 @@ Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
                      " (a DOF without stiffness or mass, or a rigid-body mode with harmonic 0?)");
   }
   Eigen::VectorXd y = Eigen::VectorXd::Zero(num_unknowns_);
-  y.head(num_displacement_unknowns_) = lu.solve(f_);
+  y.head(num_displacement_unknowns_) = lu.Solve(f_);
   for (size_t i = 0; i < laws_.size(); ++i) {
     const int count = laws_[i]->NumOwnUnknowns(harmonic_set());
     if (count > 0) {

@@ -181,7 +181,7 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     block.row_work.resize(nrows);
     block.column_work.resize(nc);
   }
-  if (nr > 0) schur_lu_.compute(schur);
+  if (nr > 0) schur_lu_.Compute(schur);
   schur_rhs_.resize(nr);
   own_solution_.resize(nr);
   return nr == 0 || RegularForElimination(schur_lu_);
@@ -204,7 +204,7 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
       schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));
     }
   }
-  if (!schur_unknowns_.empty()) own_solution_ = schur_lu_.solve(schur_rhs_);
+  if (!schur_unknowns_.empty()) schur_lu_.Solve(schur_rhs_, &own_solution_);
   (*x)(schur_unknowns_) = own_solution_;
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());

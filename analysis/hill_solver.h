@@ -5,6 +5,8 @@
 #include <Eigen/SparseLU>
 #include <vector>
 
+#include "continuation/dense_lu.h"
+
 namespace nfrc {
 
 // Solves with Hill's matrix H(σ) = Δ0 + σΔ1 + σ²Δ2, which shift-invert Arnoldi applies
@@ -67,7 +69,7 @@ class HillLinearSolver {
   bool ok_ = false;
   bool eliminating_ = false;
   std::vector<Block> blocks_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu_;
+  DenseLu schur_lu_;
   mutable Eigen::VectorXd schur_rhs_, own_solution_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse_lu_;
 };

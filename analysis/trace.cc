@@ -101,12 +101,6 @@ class TraceRecorder : public ContinuationObserver {
   std::optional<BranchPoint> previous_;
 };
 
-// Above this many unknowns the ladder is tried before the linear guess: a dense Newton
-// iteration there costs tens of LU(320), the rung below (a third of the harmonics) ~1/27 of
-// that, and from the linear guess a nonsmooth law takes tens of iterations (13 damped and
-// failed at N_φ = 640, 2 560 unknowns, before the ladder started at all).
-constexpr int kLadderFirstUnknowns = 1000;
-
 // The rung below H on the harmonic ladder: about H/3, odd if the set is odd-only.
 int CoarserMaxHarmonic(const HarmonicSet& set) {
   int coarse = std::max(1, set.max_harmonic() / 3);

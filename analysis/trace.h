@@ -123,11 +123,19 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
              ContinuationObserver* observer = nullptr, const Eigen::VectorXd* guess = nullptr,
              const PlotSpec& plot = {});
 
+// Above this many unknowns StartingGuess tries the harmonic ladder before the linear guess.
+// From the linear guess a nonsmooth law takes tens of Newton iterations, from the rung below
+// (a third of the harmonics, an iteration ~1/27 of the cost) a few: point E at N_φ = 160
+// (320 unknowns) 40 from the linear guess against 13 at H = 17, 4 at H = 53 and 4 at H = 159;
+// the N_φ = 640 point's rung at H = 425 (852 unknowns) 38 against 13 + 7 + 11. Below ~200
+// unknowns the start is a few ms either way.
+constexpr int kLadderFirstUnknowns = 200;
+
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that
 // fails, (1) the stiffness homotopy of the_case.start (laws with a stiffness: solved softer,
 // then stiffened rung by rung, warm-started), then (2) the start of the same case with about a
 // third of the harmonics (recursively, each rung trying both) re-expressed in the full set and
-// corrected (undamped, then damped): the harmonic ladder. Systems of more than 1 000 unknowns
+// corrected (undamped, then damped): the harmonic ladder. Systems of more than kLadderFirstUnknowns
 // go down the ladder before trying the linear guess. Returns the linear guess if all of it
 // fails (the engine then reports the failed start). A raised `stop` skips the remaining rungs
 // (the engine then stops after its first point). What was done beyond the linear guess (the

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "continuation/block_elimination.h"
+#include "continuation/dense_lu.h"
 
 namespace nfrc {
 namespace {
@@ -34,12 +35,11 @@ void AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
 
 bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                   int* determinant_sign) {
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
-  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
-  if (!(pivots.minCoeff() > kSingularPivotRatio * pivots.maxCoeff())) return false;
-  *x = lu.solve(b);
+  const DenseLu lu(a);
+  if (!PivotsAbove(lu, kSingularPivotRatio)) return false;
+  *x = lu.Solve(b);
   if (!x->allFinite()) return false;
-  if (determinant_sign != nullptr) *determinant_sign = DeterminantSign(lu);
+  if (determinant_sign != nullptr) *determinant_sign = lu.DeterminantSign();
   return true;
 }
 

@@ -10,6 +10,8 @@ bool RegularForElimination(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
   return pivots.size() == 0 || pivots.minCoeff() > kMinEliminationPivotRatio * pivots.maxCoeff();
 }
 
+bool RegularForElimination(const DenseLu& lu) { return PivotsAbove(lu, kMinEliminationPivotRatio); }
+
 void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n) {
   std::vector<bool> seen(static_cast<size_t>(n), false);
   for (const std::vector<int>& block : blocks) {
@@ -194,12 +196,12 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   Eigen::VectorXd schur_rhs;
   const Eigen::VectorXd block_solutions = elimination->BlockSolutions(b);
   elimination->Reduce(a, b, block_solutions, &schur, &schur_rhs);
-  const Eigen::PartialPivLU<Eigen::MatrixXd> schur_lu(schur);
+  const DenseLu schur_lu(schur);
   if (!RegularForElimination(schur_lu)) return false;
-  elimination->BackSubstitute(block_solutions, schur_lu.solve(schur_rhs), x);
+  elimination->BackSubstitute(block_solutions, schur_lu.Solve(schur_rhs), x);
   if (!x->allFinite()) return false;
   if (determinant_sign != nullptr) {
-    *determinant_sign = elimination->determinant_sign() * DeterminantSign(schur_lu);
+    *determinant_sign = elimination->determinant_sign() * schur_lu.DeterminantSign();
   }
   return true;
 }

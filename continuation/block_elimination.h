@@ -4,6 +4,8 @@
 #include <optional>
 #include <vector>
 
+#include "continuation/dense_lu.h"
+
 namespace nfrc {
 
 // Groups of unknowns whose rows and columns of a matrix are block diagonal among themselves
@@ -18,6 +20,7 @@ constexpr double kMinEliminationPivotRatio = 1e-8;
 
 // True when every pivot of the LU is above kMinEliminationPivotRatio times the largest.
 bool RegularForElimination(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu);
+bool RegularForElimination(const DenseLu& lu);
 
 // Throws std::invalid_argument if an index is outside [0, n) or in two blocks.
 void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n);

@@ -8,13 +8,13 @@ bool ReusedFactorization::Refactor(const Eigen::MatrixXd& schur, const Eigen::Ve
                                    Eigen::VectorXd* rest_solution) {
   base_ = schur;
   base_norm_ = base_.norm();
-  base_lu_.compute(base_);
+  base_lu_.Compute(base_);
   ++counts_.factorisations;
   if (!RegularForElimination(base_lu_)) {
     elimination_.reset();
     return false;
   }
-  *rest_solution = base_lu_.solve(rhs);
+  *rest_solution = base_lu_.Solve(rhs);
   return true;
 }
 
@@ -73,10 +73,10 @@ bool ReusedFactorization::Update(const Eigen::MatrixXd& schur, const Eigen::Vect
     return false;
   }
   // (S₀ + Q B)⁻¹ r = z − W (I + B W)⁻¹ B z, with z = S₀⁻¹ r and W = S₀⁻¹ Q.
-  *rest_solution = base_lu_.solve(rhs);
+  *rest_solution = base_lu_.Solve(rhs);
   const int k = static_cast<int>(q.cols());
   if (k > 0) {
-    const Eigen::MatrixXd w = base_lu_.solve(q);
+    const Eigen::MatrixXd w = base_lu_.Solve(q);
     const Eigen::MatrixXd capacitance = Eigen::MatrixXd::Identity(k, k) + coefficients * w;
     *rest_solution -= w * capacitance.partialPivLu().solve(coefficients * *rest_solution);
   }

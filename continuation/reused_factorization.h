@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "continuation/block_elimination.h"
+#include "continuation/dense_lu.h"
 
 namespace nfrc {
 
@@ -58,7 +59,7 @@ class ReusedFactorization {
   std::optional<BlockElimination> elimination_;
   Eigen::MatrixXd base_;    // the S factorised
   double base_norm_ = 0.0;  // its Frobenius norm
-  Eigen::PartialPivLU<Eigen::MatrixXd> base_lu_;
+  DenseLu base_lu_;
   std::mt19937 random_{20240611u};  // fixed seed: runs repeat bit for bit
   Counts counts_;
 };

@@ -5,6 +5,7 @@
 
 #include "continuation/augmented_system.h"
 #include "continuation/block_elimination.h"
+#include "continuation/dense_lu.h"
 
 namespace nfrc {
 namespace {
@@ -82,14 +83,9 @@ int OrientationIndex(const Linearization& linearization, const Scaling& scaling,
       return sign;
     }
   }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(bordered);
-  const Eigen::VectorXd pivots = lu.matrixLU().diagonal();
-  const double largest = pivots.cwiseAbs().maxCoeff();
-  if (!(largest > 0.0) || !std::isfinite(largest)) return 0;
-  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
-    if (!(std::abs(pivots(i)) > kSingularPivotRatio * largest)) return 0;
-  }
-  return DeterminantSign(lu);
+  const DenseLu lu(bordered);
+  if (!PivotsAbove(lu, kSingularPivotRatio)) return 0;
+  return lu.DeterminantSign();
 }
 
 }  // namespace nfrc

@@ -42,7 +42,9 @@
 //      the cusp, the Fig. 7 oscillator's energy peaks followed in the normal load from 8 to 12,
 //      the NES oscillator's Neimark-Sacker points in the forcing,
 //      and a 32-branch sweep of the Fig. 7 oscillator in the normal load with one
-//      and two threads (time per branch, speed-up, efficiency, equal results).
+//      and two threads (time per branch, speed-up, efficiency, equal results);
+//  13. the dense LU kernels (tools/bench_kernels.h): Eigen's and LAPACK's (OpenBLAS) from 40
+//      to 2 560 unknowns, and which one DenseLu takes at each size.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -68,6 +70,7 @@
 #include "tools/bench_acceptance.h"
 #include "tools/bench_blade.h"
 #include "tools/bench_common.h"
+#include "tools/bench_kernels.h"
 #include "tools/bench_studies.h"
 #include "tools/case_file.h"
 #include "tools/lu_calibration.h"
@@ -547,5 +550,6 @@ int main(int argc, char** argv) {
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);
+  if (run(13)) nfrc::bench::BenchDenseLu(g_lu_unit);
   return 0;
 }

@@ -476,8 +476,9 @@ TEST_CASE(
   MESSAGE(Seconds(start) << " s");
 }
 
-// Above 1 000 unknowns StartingGuess goes down the harmonic ladder before it tries the linear
-// guess; the start it finds there is still the Den Hartog motion, to the O(1/H) bound above.
+// Above kLadderFirstUnknowns StartingGuess goes down the harmonic ladder before it tries the
+// linear guess; the start it finds there is still the Den Hartog motion, to the O(1/H) bound
+// above.
 constexpr int kLadderFirstHarmonics = 501;  // 251 odd harmonics: 1 004 unknowns with the force
 constexpr double kLadderOmega = 1.5;
 
@@ -489,7 +490,7 @@ TEST_CASE("a start above the ladder-first size comes down the ladder and matches
   source["continuation"]["omega_end"] = kLadderOmega + 0.1;
   Case the_case = ParseEdited(source);
   auto system = BuildSystem(the_case);
-  REQUIRE(system->NumUnknowns() > 1000);
+  REQUIRE(system->NumUnknowns() > kLadderFirstUnknowns);
   std::ostringstream progress;
   const Eigen::VectorXd y = StartingGuess(the_case, *system, &progress);
   CHECK(progress.str().find("large system with H=501; starting from H=167") != std::string::npos);

@@ -46,12 +46,18 @@ HillPencil PencilOf(const Case& c, double omega, double perturbation, unsigned s
   return AssembleHillPencil(*system, y, omega);
 }
 
-TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement on its force") {
+// The 4-DOF chain with friction at its last DOF, forced at its first, at ω = 0.9 with a
+// perturbed linear guess (some samples sticking, some slipping).
+HillPencil FrictionChainPencil(const HarmonicSet& harmonics) {
   Case c = testing::ChainCase(4);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
-  c.harmonics = HarmonicSet(5, false, 64);
+  c.harmonics = harmonics;
   c.laws.push_back(testing::Friction(3, 0.3, 0.05));
-  const HillPencil pencil = PencilOf(c, 0.9, 0.01, 7);
+  return PencilOf(c, 0.9, 0.01, 7);
+}
+
+TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement on its force") {
+  const HillPencil pencil = FrictionChainPencil(HarmonicSet(5, false, 64));
   REQUIRE(pencil.own_offset > 0);
   REQUIRE(pencil.own_offset < pencil.d0.rows());
   const double sigma = 0.009;
@@ -59,6 +65,18 @@ TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement 
   const HillLinearSolver solver(hill, pencil.own_offset);
   REQUIRE(solver.ok());
   CHECK(solver.eliminating());
+  CHECK(Difference(hill, solver) <= kSameSolution);
+}
+
+// 100 harmonics: the Schur complement on the force has 201 unknowns, factorised by LAPACK
+// (DenseLu::kLapackMinSize) instead of Eigen.
+TEST_CASE("hill solver: friction at 100 harmonics, a Schur complement for LAPACK") {
+  const HillPencil pencil = FrictionChainPencil(HarmonicSet(100, false, 256));
+  const Eigen::SparseMatrix<double> hill = HillAt(pencil, 0.009);
+  const HillLinearSolver solver(hill, pencil.own_offset);
+  REQUIRE(solver.ok());
+  REQUIRE(solver.eliminating());
+  CHECK(solver.schur_size() >= DenseLu::kLapackMinSize);
   CHECK(Difference(hill, solver) <= kSameSolution);
 }
 

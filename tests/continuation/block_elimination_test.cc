@@ -35,7 +35,8 @@ Eigen::MatrixXd BlockMatrix(int m, int rest, unsigned seed, EliminationBlocks* b
 }
 
 TEST_CASE("block elimination: equals the dense solve of a block-structured system") {
-  for (const auto& [m, rest] : {std::pair{5, 10}, {30, 30}, {1, 3}}) {
+  // 240 other unknowns: the Schur complement goes to LAPACK (DenseLu::kLapackMinSize).
+  for (const auto& [m, rest] : {std::pair{5, 10}, {30, 30}, {1, 3}, {20, 240}}) {
     INFO(m << " blocks, " << rest << " other unknowns");
     EliminationBlocks blocks;
     const Eigen::MatrixXd a = BlockMatrix(m, rest, 7u + m, &blocks);
@@ -53,7 +54,7 @@ TEST_CASE("block elimination: equals the dense solve of a block-structured syste
 TEST_CASE("block elimination: the determinant's sign is the whole matrix's") {
   int negative = 0, positive = 0;
   for (unsigned seed = 1; seed <= 12; ++seed) {
-    for (const auto& [m, rest] : {std::pair{5, 10}, {12, 7}, {1, 3}}) {
+    for (const auto& [m, rest] : {std::pair{5, 10}, {12, 7}, {1, 3}, {6, 220}}) {
       INFO("seed " << seed << ", " << m << " blocks, " << rest << " other unknowns");
       EliminationBlocks blocks;
       Eigen::MatrixXd a = BlockMatrix(m, rest, seed, &blocks);

@@ -1,0 +1,117 @@
+#include "continuation/dense_lu.h"
+
+#include <cassert>
+#include <cmath>
+#include <cstdlib>
+
+// LAPACK through OpenBLAS (Fortran calling convention; the trailing length of the character
+// argument is passed as gfortran's interface expects, and ignored by OpenBLAS's C version).
+extern "C" {
+void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
+             const int* ipiv, double* b, const int* ldb, int* info, size_t trans_length);
+void openblas_set_num_threads(int num_threads);
+}
+
+namespace nfrc {
+namespace {
+
+// OpenBLAS otherwise runs a thread per core that spins between calls: at these sizes its
+// second thread gained nothing on whole runs (point E's curve 7.0–7.1 s on one thread, 7.1–7.6
+// on two) and it competes with a sweep's own threads and with other processes. Once, before
+// the first LAPACK call, unless the user chose a number in OPENBLAS_NUM_THREADS.
+void OneBlasThreadUnlessChosen() {
+  static const bool chosen = [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) openblas_set_num_threads(1);
+    return true;
+  }();
+  (void)chosen;
+}
+
+}  // namespace
+
+void DenseLu::Compute(const Eigen::MatrixXd& a) { Compute(a, a.rows() >= kLapackMinSize); }
+
+void DenseLu::Compute(const Eigen::MatrixXd& a, bool lapack) {
+  assert(a.rows() == a.cols());
+  size_ = a.rows();
+  lapack_ = lapack && size_ > 0;
+  if (!lapack_) {
+    eigen_.compute(a);
+    factors_.resize(0, 0);
+    pivots_.clear();
+    return;
+  }
+  OneBlasThreadUnlessChosen();
+  eigen_ = Eigen::PartialPivLU<Eigen::MatrixXd>();
+  factors_ = a;
+  const int n = static_cast<int>(size_);
+  pivots_.resize(static_cast<size_t>(n));
+  int info = 0;
+  dgetrf_(&n, &n, factors_.data(), &n, pivots_.data(), &info);
+  // info > 0 is an exact zero pivot (reported by Pivots()); < 0 would be a wrong argument.
+  assert(info >= 0);
+}
+
+Eigen::VectorXd DenseLu::Pivots() const {
+  return lapack_ ? Eigen::VectorXd(factors_.diagonal())
+                 : Eigen::VectorXd(eigen_.matrixLU().diagonal());
+}
+
+int DenseLu::DeterminantSign() const {
+  int sign = 1;
+  if (lapack_) {
+    for (int i = 0; i < static_cast<int>(size_); ++i) {
+      if (pivots_[static_cast<size_t>(i)] != i + 1) sign = -sign;
+    }
+  } else if (size_ > 0) {
+    sign = static_cast<int>(eigen_.permutationP().determinant());
+  }
+  const Eigen::VectorXd pivots = Pivots();
+  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
+    if (pivots(i) == 0.0) return 0;
+    if (pivots(i) < 0.0) sign = -sign;
+  }
+  return sign;
+}
+
+void DenseLu::SolveInPlace(double* b, int columns) const {
+  const int n = static_cast<int>(size_);
+  const char trans = 'N';
+  int info = 0;
+  dgetrs_(&trans, &n, &columns, factors_.data(), &n, pivots_.data(), b, &n, &info, 1);
+  assert(info == 0);
+}
+
+Eigen::MatrixXd DenseLu::Solve(const Eigen::MatrixXd& b) const {
+  assert(b.rows() == size_);
+  if (!lapack_) return eigen_.solve(b);
+  Eigen::MatrixXd x = b;
+  if (x.cols() > 0) SolveInPlace(x.data(), static_cast<int>(x.cols()));
+  return x;
+}
+
+Eigen::VectorXd DenseLu::Solve(const Eigen::VectorXd& b) const {
+  Eigen::VectorXd x(b.size());
+  Solve(b, &x);
+  return x;
+}
+
+void DenseLu::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+  assert(b.size() == size_ && x != &b);
+  if (!lapack_) {
+    *x = eigen_.solve(b);
+    return;
+  }
+  *x = b;
+  SolveInPlace(x->data(), 1);
+}
+
+bool PivotsAbove(const DenseLu& lu, double ratio) {
+  if (lu.rows() == 0) return true;
+  const Eigen::VectorXd pivots = lu.Pivots().cwiseAbs();
+  const double largest = pivots.maxCoeff();
+  return std::isfinite(largest) && pivots.minCoeff() > ratio * largest;
+}
+
+}  // namespace nfrc
