@@ -233,10 +233,7 @@ Eigen::VectorXd HarmonicSystem::InitialGuess(double omega) {
   // leaves a pivot at rounding level; the threshold is FullPivLU's default, ε·n·max pivot)
   // and is blocked (LAPACK's at 1 280 unknowns in Z, N_φ = 640: DenseLu).
   const DenseLu lu(z_);
-  const Eigen::VectorXd pivots = lu.Pivots().cwiseAbs();
-  const double threshold = std::numeric_limits<double>::epsilon() * static_cast<double>(z_.rows()) *
-                           (pivots.size() > 0 ? pivots.maxCoeff() : 0.0);
-  if (pivots.size() > 0 && !(pivots.minCoeff() > threshold)) {
+  if (!PivotsAbove(lu, std::numeric_limits<double>::epsilon() * static_cast<double>(z_.rows()))) {
     throw InputError("model: the linear dynamic stiffness is singular at omega_start = " +
                      std::to_string(omega) +
                      " (a DOF without stiffness or mass, or a rigid-body mode with harmonic 0?)");

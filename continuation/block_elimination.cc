@@ -6,8 +6,7 @@
 namespace nfrc {
 
 bool RegularForElimination(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
-  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
-  return pivots.size() == 0 || pivots.minCoeff() > kMinEliminationPivotRatio * pivots.maxCoeff();
+  return PivotsAbove(lu.matrixLU().diagonal(), kMinEliminationPivotRatio);
 }
 
 bool RegularForElimination(const DenseLu& lu) { return PivotsAbove(lu, kMinEliminationPivotRatio); }
@@ -23,15 +22,6 @@ void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n) {
       seen[static_cast<size_t>(i)] = true;
     }
   }
-}
-
-int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
-  int sign = static_cast<int>(lu.permutationP().determinant());
-  const auto pivots = lu.matrixLU().diagonal();
-  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
-    if (pivots(i) < 0.0) sign = -sign;
-  }
-  return sign;
 }
 
 std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& a,

@@ -80,8 +80,4 @@ class BlockElimination {
   int sign_ = 1;
 };
 
-// The sign of the determinant of a partial-pivoting LU's matrix: the pivots' signs and the
-// permutation's parity (the product itself over- or underflows for large matrices).
-int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu);
-
 }  // namespace nfrc

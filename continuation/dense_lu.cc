@@ -28,6 +28,15 @@ void OneBlasThreadUnlessChosen() {
   (void)chosen;
 }
 
+// The permutation's sign times the pivots' signs.
+int WithPivotSigns(int permutation_sign, const Eigen::VectorXd& pivots) {
+  int sign = permutation_sign;
+  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
+    if (pivots(i) < 0.0) sign = -sign;
+  }
+  return sign;
+}
+
 }  // namespace
 
 void DenseLu::Compute(const Eigen::MatrixXd& a) { Compute(a, a.rows() >= kLapackMinSize); }
@@ -59,20 +68,14 @@ Eigen::VectorXd DenseLu::Pivots() const {
 }
 
 int DenseLu::DeterminantSign() const {
-  int sign = 1;
-  if (lapack_) {
-    for (int i = 0; i < static_cast<int>(size_); ++i) {
-      if (pivots_[static_cast<size_t>(i)] != i + 1) sign = -sign;
-    }
-  } else if (size_ > 0) {
-    sign = static_cast<int>(eigen_.permutationP().determinant());
-  }
   const Eigen::VectorXd pivots = Pivots();
-  for (Eigen::Index i = 0; i < pivots.size(); ++i) {
-    if (pivots(i) == 0.0) return 0;
-    if (pivots(i) < 0.0) sign = -sign;
+  if ((pivots.array() == 0.0).any()) return 0;
+  if (!lapack_) return size_ > 0 ? nfrc::DeterminantSign(eigen_) : 1;
+  int interchanges = 1;  // the permutation's sign, from LAPACK's 1-based row swaps
+  for (int i = 0; i < static_cast<int>(size_); ++i) {
+    if (pivots_[static_cast<size_t>(i)] != i + 1) interchanges = -interchanges;
   }
-  return sign;
+  return WithPivotSigns(interchanges, pivots);
 }
 
 void DenseLu::SolveInPlace(double* b, int columns) const {
@@ -107,11 +110,17 @@ void DenseLu::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
   SolveInPlace(x->data(), 1);
 }
 
-bool PivotsAbove(const DenseLu& lu, double ratio) {
-  if (lu.rows() == 0) return true;
-  const Eigen::VectorXd pivots = lu.Pivots().cwiseAbs();
-  const double largest = pivots.maxCoeff();
-  return std::isfinite(largest) && pivots.minCoeff() > ratio * largest;
+bool PivotsAbove(const Eigen::VectorXd& pivots, double ratio) {
+  if (pivots.size() == 0) return true;
+  const double largest = pivots.cwiseAbs().maxCoeff();
+  return std::isfinite(largest) && pivots.cwiseAbs().minCoeff() > ratio * largest;
+}
+
+bool PivotsAbove(const DenseLu& lu, double ratio) { return PivotsAbove(lu.Pivots(), ratio); }
+
+int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
+  return WithPivotSigns(static_cast<int>(lu.permutationP().determinant()),
+                        lu.matrixLU().diagonal());
 }
 
 }  // namespace nfrc

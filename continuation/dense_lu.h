@@ -50,7 +50,13 @@ class DenseLu {
   std::vector<int> pivots_;                     // LAPACK's row interchanges, 1-based
 };
 
-// True when every pivot is above `ratio` times the largest in magnitude (and finite).
+// True when every pivot is above `ratio` times the largest in magnitude and that is finite;
+// true when there is none. The second form reads U's diagonal.
+bool PivotsAbove(const Eigen::VectorXd& pivots, double ratio);
 bool PivotsAbove(const DenseLu& lu, double ratio);
+
+// The sign of the determinant of a partial-pivoting LU's matrix: the pivots' signs and the
+// permutation's parity (the product itself over- or underflows for large matrices).
+int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu);
 
 }  // namespace nfrc
