@@ -267,9 +267,18 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
     }
   }
   const bool ladder_first = ladder && system.NumUnknowns() > kLadderFirstUnknowns;
+  // A converged start's cost on the progress stream: every rung of a ladder reports its own.
+  const auto started = [&](const FixedLambdaSolution& solved, int iterations,
+                           const std::string& from) {
+    if (progress != nullptr) {
+      *progress << "nfrc: start at H=" << set.max_harmonic() << ": " << iterations
+                << " Newton iterations from " << from << "\n";
+    }
+    return solved.y;
+  };
   if (!ladder_first) {
     const FixedLambdaSolution solved = SolveAtFixedLambda(system, linear, omega, linear, options);
-    if (solved.converged) return solved.y;
+    if (solved.converged) return started(solved, solved.iterations, "the linear guess");
     if (progress != nullptr) {
       *progress << "nfrc: no start from the linear guess with H=" << set.max_harmonic() << "\n";
     }
@@ -299,10 +308,12 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   ContinuationOptions undamped = options;
   undamped.line_search = false;
   FixedLambdaSolution solved = SolveAtFixedLambda(system, padded, omega, padded, undamped);
+  int iterations = solved.iterations;
   if (!solved.converged && options.line_search) {
     solved = SolveAtFixedLambda(system, padded, omega, padded, options);
+    iterations += solved.iterations;
   }
-  if (solved.converged) return solved.y;
+  if (solved.converged) return started(solved, iterations, "H=" + std::to_string(coarse_h));
   // The coarse solution of a stiff law can lie outside Newton's region at the full harmonics
   // (DLFT friction at ε = 1e4, N_φ = 60): softer, it lies inside.
   if (const auto homotopy = StiffnessHomotopy(the_case, system, &padded, progress, stop, notes)) {
@@ -311,7 +322,7 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   // Padded failed both ways; at a large system the linear guess has not been tried yet.
   if (ladder_first) {
     solved = SolveAtFixedLambda(system, linear, omega, linear, options);
-    if (solved.converged) return solved.y;
+    if (solved.converged) return started(solved, solved.iterations, "the linear guess");
   }
   return linear;
 }

@@ -126,9 +126,9 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 // Above this many unknowns StartingGuess tries the harmonic ladder before the linear guess.
 // From the linear guess a nonsmooth law takes tens of Newton iterations, from the rung below
 // (a third of the harmonics, an iteration ~1/27 of the cost) a few: point E at N_φ = 160
-// (320 unknowns) 40 from the linear guess against 13 at H = 17, 4 at H = 53 and 4 at H = 159;
-// the N_φ = 640 point's rung at H = 425 (852 unknowns) 38 against 13 + 7 + 11. Below ~200
-// unknowns the start is a few ms either way.
+// (320 unknowns) 40 from the linear guess against 17 at H = 53 and 4 at H = 159; the
+// N_φ = 640 point's rung at H = 425 (852 unknowns) 38 against 13 + 7 + 11 (`nfrc run`
+// prints each rung's). Below ~200 unknowns the start is a few ms either way.
 constexpr int kLadderFirstUnknowns = 200;
 
 // A starting point at lambda_start for a case: Newton from the linear guess or, when that

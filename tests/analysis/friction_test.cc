@@ -494,6 +494,12 @@ TEST_CASE("a start above the ladder-first size comes down the ladder and matches
   std::ostringstream progress;
   const Eigen::VectorXd y = StartingGuess(the_case, *system, &progress);
   CHECK(progress.str().find("large system with H=501; starting from H=167") != std::string::npos);
+  // Each rung reports its Newton iterations: the top one from the rung below, the bottom one
+  // (H = 55, 112 unknowns, below kLadderFirstUnknowns) from the linear guess.
+  CHECK(progress.str().find("nfrc: start at H=501: ") != std::string::npos);
+  CHECK(progress.str().find(" Newton iterations from H=167\n") != std::string::npos);
+  CHECK(progress.str().find("nfrc: start at H=55: ") != std::string::npos);
+  CHECK(progress.str().find(" Newton iterations from the linear guess\n") != std::string::npos);
   Eigen::VectorXd residual;
   REQUIRE(system->Evaluate(y, kLadderOmega, &residual, nullptr, nullptr));
   REQUIRE(residual.norm() < 1e-8 * kOneDofF);
