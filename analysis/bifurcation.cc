@@ -59,11 +59,16 @@ StabilityMonitor::StabilityMonitor(HarmonicSystem& system, const StabilityOption
     : system_(system), options_(options), continuation_(continuation) {}
 
 FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega) {
+  return Analyze(y, omega, &krylov_start_);
+}
+
+FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega,
+                                        Eigen::VectorXd* warm_start) {
   HillOptions hill;
   hill.unstable_tolerance = options_.unstable_tolerance;
   try {
     if (!hill_) hill_ = std::make_unique<HillAssembler>(system_);
-    return SolveHill(hill_->Assemble(y, omega), hill, &krylov_start_);
+    return SolveHill(hill_->Assemble(y, omega), hill, warm_start);
   } catch (const std::runtime_error& error) {
     FloquetResult failed;
     failed.method = "hill";
@@ -92,6 +97,9 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
     }
   }
   const Crossing type = TypeOf(*crossed);
+  // Each localisation starts Arnoldi cold and warm-starts its own trials from each other: its
+  // result depends on its two points only, not on what this monitor analysed before.
+  Eigen::VectorXd warm_start;
   Bifurcation bifurcation;
   if (type == Crossing::kPlusOne && fold != nullptr) {
     bifurcation.type = BifurcationType::kFold;
@@ -100,7 +108,8 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
     bifurcation.converged = fold->converged;
     bifurcation.iterations = fold->iterations;
     bifurcation.y = fold->y;
-    bifurcation.crossing_multipliers = CrossingMultipliers(Analyze(fold->y, fold->lambda), type);
+    bifurcation.crossing_multipliers =
+        CrossingMultipliers(Analyze(fold->y, fold->lambda, &warm_start), type);
     return bifurcation;
   }
   bifurcation.type = type == Crossing::kPlusOne    ? BifurcationType::kBranchPoint
@@ -142,7 +151,7 @@ std::optional<Bifurcation> StabilityMonitor::Between(const BranchPoint& a,
     const Eigen::VectorXd guess = (1.0 - t) * ya + t * yb;
     const FixedLambdaSolution solved = SolveAtFixedLambda(system_, guess, w, yb, continuation_);
     if (!solved.converged) break;
-    const FloquetResult at = Analyze(solved.y, w);
+    const FloquetResult at = Analyze(solved.y, w, &warm_start);
     if (!at.computed) break;
     bifurcation.iterations = iteration;
     bifurcation.omega = w;

@@ -22,8 +22,12 @@ class StabilityMonitor {
   StabilityMonitor(HarmonicSystem& system, const StabilityOptions& options,
                    const ContinuationOptions& continuation);
 
-  // Hill's multipliers at a solution; a failure is a result with computed = false.
+  // Hill's multipliers at a solution; a failure is a result with computed = false. Arnoldi
+  // starts from the previous analysis of this form.
   FloquetResult Analyze(const Eigen::VectorXd& y, double omega);
+  // The same with Arnoldi's start in and out through `warm_start` (SolveHill's krylov_start:
+  // empty starts cold), for callers that chain analyses of their own (HillWorkers).
+  FloquetResult Analyze(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* warm_start);
 
   // The bifurcation between consecutive points a and b with their Floquet results, if their
   // unstable counts differ. `fold` is the fold the engine located between them, if any: a
@@ -31,7 +35,8 @@ class StabilityMonitor {
   // Otherwise ω is monotone on the segment and the crossing is localised by the Illinois
   // method on log|μ| of the crossing multiplier, each trial solved by Newton at fixed ω from
   // the interpolated solution and its side decided by the unstable count; the accuracy is the
-  // final bracket's width.
+  // final bracket's width. Arnoldi starts cold at each localisation's first analysis, so the
+  // result depends on a and b only.
   std::optional<Bifurcation> Between(const BranchPoint& a, const FloquetResult& floquet_a,
                                      const BranchPoint& b, const FloquetResult& floquet_b,
                                      const Fold* fold);

@@ -2,23 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <iomanip>
 #include <optional>
 #include <ostream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "analysis/bifurcation.h"
+#include "analysis/stability_pipeline.h"
 #include "continuation/fixed_lambda.h"
 #include "core/errors.h"
 
 namespace nfrc {
 namespace {
 
-// Measures every point, resolves the signals_at crossings of each new segment and forwards
-// the typed results to the caller's observer; stops the engine when `stop` is raised.
+// Measures every point, resolves the signals_at crossings of each new segment, analyses each
+// point's stability (StabilityPipeline: on threads of its own and this one) and forwards the typed
+// results to the caller's observer in branch order; stops the engine when `stop` is raised or
+// the observer refuses a point. The observer hears of a point once its analysis is done, up to
+// a chain of points per thread after the engine found it.
 class TraceRecorder : public ContinuationObserver {
  public:
   TraceRecorder(const Case& the_case, HarmonicSystem& system, const TraceOptions& options,
@@ -28,20 +35,25 @@ class TraceRecorder : public ContinuationObserver {
         options_(options),
         reporter_(system, the_case.output_dofs, the_case.output_names),
         monitor_(system, the_case.stability, the_case.continuation),
-        result_(result) {}
+        result_(result) {
+    if (the_case.stability.enabled) {
+      stability_ =
+          std::make_unique<StabilityPipeline>(the_case, monitor_, HillThreads(options.threads));
+    }
+  }
 
   bool OnPoint(const BranchPoint& point, int index) override {
     // Filled in place: a TracePoint copied with its empty optionals trips GCC 12's
     // -Wmaybe-uninitialized.
-    TracePoint& record = result_->points.emplace_back();
+    TracePoint& record = std::get<TracePoint>(events_.emplace_back(std::in_place_type<TracePoint>));
     record.index = index;
     record.point = point;
     record.measures = reporter_.Measure(point.y, point.lambda);
-    if (case_.stability.enabled) {
-      record.floquet = monitor_.Analyze(point.y, point.lambda);
-      if (result_->points.size() >= 2) CheckBifurcation(index);
+    if (stability_) {
+      const bool fold_before = last_fold_ && last_fold_->after_point == index - 1;
+      stability_->Submit(index, point, fold_before ? &*last_fold_ : nullptr);
     }
-    bool go_on = options_.observer == nullptr || options_.observer->OnPoint(result_->points.back());
+    ++pending_points_;
     if (options_.solve_signals) {
       for (double omega : case_.signals_at) {
         const BranchPoint* previous = previous_ ? &*previous_ : nullptr;
@@ -51,43 +63,80 @@ class TraceRecorder : public ContinuationObserver {
           signals.after_point = point.lambda == omega ? index : index - 1;
           signals.converged = solved->converged;
           signals.note = solved->message;
-          result_->signals.push_back(std::move(signals));
-          if (options_.observer != nullptr) options_.observer->OnSignals(result_->signals.back());
+          events_.emplace_back(std::move(signals));
         }
       }
     }
     previous_ = point;
+    // With workers, enough queued points for every thread to have a chain of its own.
+    Deliver(stability_ && stability_->threads() > 0
+                ? StabilityPipeline::kChainPoints * (stability_->threads() + 1)
+                : 0);
     const bool stopped = options_.stop != nullptr && options_.stop->load();
-    return go_on && !stopped;
+    return !refused_at_ && !stopped;
   }
 
   void OnFold(const Fold& fold) override {
-    TraceFold record{fold, reporter_.analyzer().Measure(fold.y, fold.lambda)};
-    result_->folds.push_back(record);
-    if (options_.observer != nullptr) options_.observer->OnFold(result_->folds.back());
+    last_fold_ = fold;
+    events_.emplace_back(TraceFold{fold, reporter_.analyzer().Measure(fold.y, fold.lambda)});
   }
 
+  // Delivers what is still queued once the engine has returned (waits for the workers).
+  void Finish() { Deliver(0); }
+
+  // The last point the observer was given, if it refused it (the engine went on meanwhile).
+  std::optional<int> refused_at() const { return refused_at_; }
+
  private:
-  // A change of stability between the last two points (the fold the engine found between
-  // them, if any, is the +1 crossing there).
-  void CheckBifurcation(int index) {
-    const TracePoint& before = result_->points[result_->points.size() - 2];
-    const TracePoint& after = result_->points.back();
-    const Fold* fold = nullptr;
-    if (!result_->folds.empty() && result_->folds.back().fold.after_point == before.index) {
-      fold = &result_->folds.back().fold;
+  using Event = std::variant<TracePoint, TraceFold, SolutionSignals>;
+
+  // Forwards queued events in order while their point's analysis is done, and waits for the
+  // oldest while more than `max_pending` points are queued. After a refused point only its
+  // own signals follow; the rest is dropped.
+  void Deliver(int max_pending) {
+    while (!events_.empty()) {
+      Event& event = events_.front();
+      if (refused_at_ && !std::holds_alternative<SolutionSignals>(event)) {
+        events_.clear();
+        pending_points_ = 0;
+        return;
+      }
+      if (auto* point = std::get_if<TracePoint>(&event)) {
+        std::optional<Bifurcation> bifurcation;
+        if (stability_) {
+          if (pending_points_ <= max_pending && !stability_->Ready(point->index)) return;
+          PointStability stability = stability_->Take(point->index);
+          point->floquet = std::move(stability.floquet);
+          bifurcation = std::move(stability.bifurcation_before);
+        }
+        --pending_points_;
+        result_->points.push_back(std::move(*point));
+        const TracePoint& record = result_->points.back();
+        if (bifurcation) Report(std::move(*bifurcation), record.index);
+        if (options_.observer != nullptr && !options_.observer->OnPoint(record)) {
+          refused_at_ = record.index;
+        }
+      } else if (auto* fold = std::get_if<TraceFold>(&event)) {
+        result_->folds.push_back(std::move(*fold));
+        if (options_.observer != nullptr) options_.observer->OnFold(result_->folds.back());
+      } else {
+        result_->signals.push_back(std::move(std::get<SolutionSignals>(event)));
+        if (options_.observer != nullptr) options_.observer->OnSignals(result_->signals.back());
+      }
+      events_.pop_front();
     }
-    std::optional<Bifurcation> found =
-        monitor_.Between(before.point, before.floquet, after.point, after.floquet, fold);
-    if (!found) return;
-    found->after_point = index - 1;
-    found->measures = reporter_.analyzer().Measure(found->y, found->omega);
+  }
+
+  // A bifurcation found between point `index` and the one before.
+  void Report(Bifurcation found, int index) {
+    found.after_point = index - 1;
+    found.measures = reporter_.analyzer().Measure(found.y, found.omega);
     if (options_.progress != nullptr) {
       const double m = case_.period_multiple;  // λ = ω/m
-      *options_.progress << "nfrc: " << ToString(found->type) << " at omega = " << m * found->omega
-                         << " (+/- " << m * found->omega_accuracy << ")\n";
+      *options_.progress << "nfrc: " << ToString(found.type) << " at omega = " << m * found.omega
+                         << " (+/- " << m * found.omega_accuracy << ")\n";
     }
-    result_->bifurcations.push_back(std::move(*found));
+    result_->bifurcations.push_back(std::move(found));
     if (options_.observer != nullptr)
       options_.observer->OnBifurcation(result_->bifurcations.back());
   }
@@ -96,8 +145,14 @@ class TraceRecorder : public ContinuationObserver {
   HarmonicSystem& system_;
   const TraceOptions& options_;
   SolutionReporter reporter_;
+  // The analyses and localisations the tracing thread runs itself.
   StabilityMonitor monitor_;
   TraceResult* result_;
+  std::unique_ptr<StabilityPipeline> stability_;  // with stability on
+  std::optional<Fold> last_fold_;                 // the engine's latest
+  std::deque<Event> events_;  // found by the engine, not yet given to the observer
+  int pending_points_ = 0;    // points among events_
+  std::optional<int> refused_at_;
   std::optional<BranchPoint> previous_;
 };
 
@@ -327,8 +382,23 @@ Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std:
   return linear;
 }
 
+int HillThreads(int requested) {
+  if (requested >= 0) return requested;
+  // The tracing thread runs analyses too while it waits for them.
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  return std::clamp(cores - 1, 0, kMaxThreads);
+}
+
+void TraceOptions::Validate() const {
+  if (threads < -1 || threads > kMaxThreads) {
+    throw InputError("threads: must be -1 (one per core), 0 (none) or up to " +
+                     std::to_string(kMaxThreads) + ", got " + std::to_string(threads));
+  }
+}
+
 TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
   the_case.Validate();
+  options.Validate();
   if (the_case.method == Method::kLemkeStepping) return StepLcp(the_case, options);
   std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
   TraceResult result;
@@ -349,6 +419,12 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
           ? *options.start
           : StartingGuess(the_case, *system, options.progress, options.stop, &start_notes);
   result.branch = Trace(*system, continuation, &recorder, &guess, the_case.Plot());
+  recorder.Finish();
+  if (const std::optional<int> last = recorder.refused_at();
+      last && *last + 1 < static_cast<int>(result.branch.points.size())) {
+    // The engine went past the refused point while its analysis was pending.
+    StopBranchAfter(*last, continuation.lambda_name, &result.branch);
+  }
   std::vector<std::string>& notes = result.branch.summary.notes;
   notes.insert(notes.begin(), start_notes.begin(), start_notes.end());
   result.quasi_periodic_windows = QuasiPeriodicWindows(result.bifurcations, result.points);

@@ -96,7 +96,19 @@ struct TraceOptions {
   // A solution (or close guess) at continuation.lambda_start to start from, instead of the
   // linear guess and the harmonic ladder (branch switching); null: none.
   const Eigen::VectorXd* start = nullptr;
+  // Threads that run Hill's analyses beside the tracing one, which runs them too while it
+  // waits for them (analysis/hill_workers.h): -1 (default) one per further hardware thread,
+  // 0 none. The results are the same, bit for bit, whatever the count.
+  int threads = -1;
+  // Throws InputError("threads: ...") for a count outside [-1, kMaxThreads].
+  void Validate() const;
 };
+
+// More Hill threads than this is a typo, not a machine.
+constexpr int kMaxThreads = 256;
+
+// The worker count of TraceOptions::threads: `requested`, or for -1 the hardware threads but one.
+int HillThreads(int requested);
 
 // A traced branch and everything reported along it.
 struct TraceResult {

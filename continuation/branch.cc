@@ -1,6 +1,25 @@
 #include "continuation/branch.h"
 
+#include <algorithm>
+#include <cassert>
+#include <sstream>
+
 namespace nfrc {
+
+void StopBranchAfter(int last, const std::string& lambda_name, Branch* branch) {
+  assert(last >= 0 && last < static_cast<int>(branch->points.size()));
+  branch->points.resize(static_cast<size_t>(last) + 1);
+  std::erase_if(branch->folds, [&](const Fold& fold) { return fold.after_point >= last; });
+  ContinuationSummary& summary = branch->summary;
+  summary.num_points = static_cast<int>(branch->points.size());
+  summary.num_folds = static_cast<int>(branch->folds.size());
+  summary.reason = TerminationReason::kStoppedByObserver;
+  std::ostringstream message;
+  message.precision(8);  // as the engine's own messages
+  message << "stopped by the observer at point " << last << " (" << lambda_name << "="
+          << branch->points.back().lambda << ")";
+  summary.message = message.str();
+}
 
 const char* ToString(TerminationReason reason) {
   switch (reason) {

@@ -80,4 +80,10 @@ struct Branch {
   ContinuationSummary summary;
 };
 
+// Ends `branch` at point `last` as if its observer had stopped it there: the points after it
+// and the folds past it go, and the summary counts what is left (its steps and Newton
+// iterations keep the work done). For an observer that hears of points later than the engine
+// finds them. `lambda_name` names λ in the message.
+void StopBranchAfter(int last, const std::string& lambda_name, Branch* branch);
+
 }  // namespace nfrc

@@ -73,7 +73,8 @@ double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
   return CurveDeviation(Curve(reference, plotted), Curve(trace, plotted));
 }
 
-Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int perturbation) {
+Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int perturbation,
+               int threads) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + c.file);
   the_case.stability.enabled = true;
   if (perturbation > 0 && !the_case.model.forcing.empty()) {
@@ -82,8 +83,10 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
     term.sin *= 1.0 + perturbation * kPerturbation;
     std::printf("(forcing x (1 + %d x %.1e)) ", perturbation, kPerturbation);
   }
+  TraceOptions options;
+  options.threads = threads;
   const auto start = Clock::now();
-  const TraceResult trace = TraceCase(the_case);
+  const TraceResult trace = TraceCase(the_case, options);
   const double seconds = Seconds(start);
   const ContinuationSummary& s = trace.branch.summary;
   std::printf("%s: %s, %zu points, %d unknowns, %d Newton, %zu bifurcations\n", c.file,
@@ -117,14 +120,16 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
 // One friction point at N_φ = 640 (harmonics 1, 3, …, 1279: 1 280 coefficients per signal,
 // 2 560 unknowns with the friction force): the start
 // solve at ω = 0.75 of the two-DOF oscillator, N = 10.
-Timing RunFineFrictionPoint(double lu_unit) {
+Timing RunFineFrictionPoint(double lu_unit, int threads) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/friction/point_e.json");
   the_case.harmonics = HarmonicSet(1279, true);
   the_case.continuation.lambda_start = 0.75;
   the_case.continuation.max_points = 1;
   the_case.stability.enabled = true;
+  TraceOptions options;
+  options.threads = threads;
   const auto start = Clock::now();
-  const TraceResult trace = TraceCase(the_case);
+  const TraceResult trace = TraceCase(the_case, options);
   const double seconds = Seconds(start);
   std::printf("friction point at N_phi = 640, omega = 0.75: %s, %d unknowns, %d Newton\n",
               ToString(trace.branch.summary.reason), trace.num_unknowns,
@@ -253,8 +258,8 @@ void BenchStepWeights(double lu_unit) {
   }
 }
 
-void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs,
-                     bool perturb) {
+void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs, bool perturb,
+                     int threads) {
   const std::vector<AcceptanceCase> cases = {
       {"duffing.json", Plotted::kMaxAbs, 0.0},
       {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
@@ -271,16 +276,20 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
   const auto keep = [](std::optional<Timing> timing, std::vector<Timing>* into) {
     if (timing) into->push_back(*timing);
   };
+  std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n", HillThreads(threads),
+              threads);
   for (int round = 0; round < runs; ++round) {
     if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
     const bool with_accuracy = accuracy && round == 0;  // the reference traces cost more
     for (size_t i = 0; i < cases.size(); ++i) {
       const int perturbation = perturb ? round : 0;
-      keep(InChild(
-               [&] { return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation); }),
+      keep(InChild([&] {
+             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, threads);
+           }),
            &timings[i]);
     }
-    keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit)); }), &timings[cases.size()]);
+    keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), threads); }),
+         &timings[cases.size()]);
   }
   if (runs <= 1) return;
   std::printf(

@@ -14,9 +14,10 @@ namespace nfrc::bench {
 // case's fastest and median time, in ms and in its own child's LU(320), and its fewest /
 // median / most points where they differ. perturb: round r traces a copy whose first forcing
 // term is scaled by 1 + r·4.4e-16, so that the summary spans the step sequences a curve
-// takes under rounding-level changes instead of one draw.
+// takes under rounding-level changes instead of one draw. `threads`: TraceOptions::threads
+// (Hill's analyses beside the trace; 0 in turn, -1 one per hardware thread).
 void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs = 1,
-                     bool perturb = false);
+                     bool perturb = false, int threads = -1);
 
 // Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
 // friction force's step weights 1, 0.3 (the default), 0.1 and 0 (HarmonicSystem::

@@ -21,9 +21,10 @@
 //      Lagrange-multiplier scheme on the rod against a rigid one: integration time, periods,
 //      steps and events;
 //   8. stability (Hill's method at every point, bifurcations localised): the whole trace
-//      (TraceCase, measures included) with stability off and on, and Hill's time per point
-//      against the trace's, for Duffing, the friction FRC at N_φ = 60 and 160 (the latter
-//      on its first 60 points), the rigid-obstacle rod and the rod against 4 k_rod;
+//      (TraceCase, measures included) with stability off and on (Hill in turn on the
+//      tracing thread), Hill's time per point against the trace's, and the trace with Hill
+//      on threads beside it (threads=N), for Duffing, the friction FRC at N_φ = 60 and 160 (the
+//      latter on its first 60 points), the rigid-obstacle rod and the rod against 4 k_rod;
 //   9. the speed issue's acceptance cases (tools/bench_acceptance.h), each whole with
 //      stability on and in its own process: ms, LU(320), the budget, points, Newton, the
 //      localisations (folds, corners among them, and their iterations; the other stability
@@ -460,7 +461,7 @@ void BenchTransient(const std::string& name, double omega, int repeats) {
 
 }  // namespace
 
-void BenchStability(const std::string& name, int max_harmonic, int max_points) {
+void BenchStability(const std::string& name, int max_harmonic, int max_points, int threads) {
   nfrc::Case the_case = nfrc::LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + name);
   if (max_harmonic > 0) the_case.harmonics = nfrc::HarmonicSet(max_harmonic, true);
   if (max_points > 0) the_case.continuation.max_points = max_points;
@@ -469,11 +470,17 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
   const nfrc::TraceResult off = nfrc::TraceCase(the_case);
   const double t_off = Seconds(start);
   the_case.stability.enabled = true;
+  nfrc::TraceOptions in_turn;
+  in_turn.threads = 0;
   start = Clock::now();
-  const nfrc::TraceResult on = nfrc::TraceCase(the_case);
+  const nfrc::TraceResult on = nfrc::TraceCase(the_case, in_turn);
   const double t_on = Seconds(start);
   double hill = 0.0;
-  for (const nfrc::TracePoint& p : on.points) hill += p.floquet.seconds;
+  long applications = 0;  // Arnoldi's solves with Hill's shifted matrix, over the points
+  for (const nfrc::TracePoint& p : on.points) {
+    hill += p.floquet.seconds;
+    applications += p.floquet.operator_applications;
+  }
   const double n = static_cast<double>(on.points.size());
   std::printf("%s%s: %d points, %d unknowns, %zu bifurcations\n", name.c_str(),
               max_harmonic > 0 ? (" H=" + std::to_string(max_harmonic)).c_str() : "",
@@ -481,21 +488,50 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points) {
   std::printf("  trace, stability off  %.1f ms = %.1f LU(320)\n", 1e3 * t_off, t_off / g_lu_unit);
   std::printf("  trace, stability on   %.1f ms = %.1f LU(320)  (x%.2f)\n", 1e3 * t_on,
               t_on / g_lu_unit, t_on / t_off);
-  std::printf("  per point: point %.3f ms = %.3f LU(320), Hill %.3f ms = %.3f LU(320) (x%.2f)\n",
-              1e3 * t_off / n, t_off / n / g_lu_unit, 1e3 * hill / n, hill / n / g_lu_unit,
-              hill / t_off);
+  std::printf(
+      "  per point: point %.3f ms = %.3f LU(320), Hill %.3f ms = %.3f LU(320) (x%.2f), %.1f "
+      "operator applications\n",
+      1e3 * t_off / n, t_off / n / g_lu_unit, 1e3 * hill / n, hill / n / g_lu_unit, hill / t_off,
+      static_cast<double>(applications) / n);
+  const int workers = nfrc::HillThreads(threads);
+  if (workers == 0) return;
+  nfrc::TraceOptions beside;
+  beside.threads = workers;
+  start = Clock::now();
+  const nfrc::TraceResult parallel = nfrc::TraceCase(the_case, beside);
+  const double t_parallel = Seconds(start);
+  std::printf(
+      "  stability on, Hill on %d threads beside the trace: %.1f ms = %.1f LU(320)"
+      "  (x%.2f of in turn; %zu points, %zu bifurcations)\n",
+      workers, 1e3 * t_parallel, t_parallel / g_lu_unit, t_parallel / t_on, parallel.points.size(),
+      parallel.bifurcations.size());
 }
 
-// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] runs the numbered sections
-// above (default: all); runs=N repeats section 9 in N rounds and summarises each case's
-// times; perturb makes round r trace a copy with the first forcing term scaled by
-// 1 + r·4.4e-16.
+// A whole-number argument key=N in [low, high]; exits with a message otherwise.
+int IntArgument(const std::string& arg, size_t key_length, long low, long high) {
+  char* end = nullptr;
+  const char* digits = arg.c_str() + key_length;
+  const long value = std::strtol(digits, &end, 10);
+  if (end == digits || *end != '\0' || value < low || value > high) {
+    std::fprintf(stderr, "nfrc_bench: %s needs a whole number from %ld to %ld\n", arg.c_str(), low,
+                 high);
+    std::exit(2);
+  }
+  return static_cast<int>(value);
+}
+
+// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [threads=N] runs the numbered
+// sections above (default: all); runs=N repeats section 9 in N rounds and summarises each
+// case's times; perturb makes round r trace a copy with the first forcing term scaled by
+// 1 + r·4.4e-16; threads=N runs Hill's analyses of sections 8 and 9 on N threads beside the
+// trace (TraceOptions::threads; default -1, one per hardware thread; 0 in turn).
 int main(int argc, char** argv) {
   nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
   bool accuracy = false;
   bool perturb = false;  // section 9: each round a copy perturbed to rounding (perturb)
   int runs = 1;          // rounds of section 9 (runs=N)
+  int threads = -1;      // Hill's threads in sections 8 and 9 (threads=N)
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "accuracy") {
@@ -503,14 +539,9 @@ int main(int argc, char** argv) {
     } else if (arg == "perturb") {
       perturb = true;
     } else if (arg.rfind("runs=", 0) == 0) {
-      char* end = nullptr;
-      const long value = std::strtol(arg.c_str() + 5, &end, 10);
-      if (end == arg.c_str() + 5 || *end != '\0' || value < 1 || value > 1000) {
-        std::fprintf(stderr, "nfrc_bench: runs=N needs a whole number from 1 to 1000, got '%s'\n",
-                     arg.c_str());
-        return 2;
-      }
-      runs = static_cast<int>(value);
+      runs = IntArgument(arg, 5, 1, 1000);
+    } else if (arg.rfind("threads=", 0) == 0) {
+      threads = IntArgument(arg, 8, -1, nfrc::kMaxThreads);
     } else {
       sections.push_back(std::atoi(argv[i]));
     }
@@ -540,13 +571,15 @@ int main(int argc, char** argv) {
     BenchTransient("validation/rod_rigid.json", 63954.0, 3);
   }
   if (run(8)) {
-    BenchStability("duffing.json", 0, 0);
-    BenchStability("friction/frc_n10.json", 0, 0);
-    BenchStability("friction/frc_n10.json", 159, 60);
-    BenchStability("rod/rigid_nh20.json", 0, 0);
-    BenchStability("rod/flexible_4krod.json", 0, 0);
+    BenchStability("duffing.json", 0, 0, threads);
+    BenchStability("friction/frc_n10.json", 0, 0, threads);
+    BenchStability("friction/frc_n10.json", 159, 60, threads);
+    BenchStability("rod/rigid_nh20.json", 0, 0, threads);
+    BenchStability("rod/flexible_4krod.json", 0, 0, threads);
   }
-  if (run(9)) nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy, runs, perturb);
+  if (run(9)) {
+    nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy, runs, perturb, threads);
+  }
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);

@@ -41,7 +41,10 @@ constexpr int kExitInternalError = 5;
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  nfrc run CASE.json --out DIR   trace the frequency response of a case\n"
+    "  nfrc run CASE.json --out DIR [--threads N]\n"
+    "                                 trace the frequency response of a case, its stability\n"
+    "                                 analysed on N threads beside the trace (default: one\n"
+    "                                 per further core; 0: on the tracing thread only)\n"
     "  nfrc refine CASE.json --omega W --out DIR [--epsilon0 E] [--factor F] [--steps N]\n"
     "              [--epsilons E1,E2,...]\n"
     "                                 DLFT epsilon refinement at W (default: from the\n"
@@ -67,7 +70,9 @@ constexpr const char* kUsage =
     "                                 one branch per value (several --parameter: per point of\n"
     "                                 their grid, the last varying fastest) in DIR/<k>/,\n"
     "                                 DIR/sweep.json rewritten as runs finish; resumes a sweep\n"
-    "                                 in DIR. PATH: any numeric field of the case file\n"
+    "                                 in DIR. PATH: any numeric field of the case file.\n"
+    "                                 With --jobs above 1 each branch's stability runs on\n"
+    "                                 its own thread\n"
     "  nfrc sweep MANIFEST.json --out DIR [--jobs N]\n"
     "                                 one branch per variant of a manifest (a base case and its\n"
     "                                 variants; run one as MANIFEST.json#NAME)\n"
@@ -91,12 +96,14 @@ CaseAndOut RequireCaseAndOut(const nfrc::CommandLine& line) {
 }
 
 int Run(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
-  const nfrc::CommandLine line("run", args, {nfrc::OptionSpec::Value("--out")});
+  const nfrc::CommandLine line(
+      "run", args, {nfrc::OptionSpec::Value("--out"), nfrc::OptionSpec::Value("--threads")});
   const CaseAndOut io = RequireCaseAndOut(line);
+  const int threads = line.Int("--threads", -1, nfrc::kMaxThreads).value_or(-1);
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::OutputDirectoryLock lock(io.out_dir);
-  const nfrc::Branch branch =
-      nfrc::RunCase(file.the_case, io.out_dir, &std::cerr, &stop.flag(), file.source);
+  const nfrc::Branch branch = nfrc::RunCase(file.the_case, io.out_dir, &std::cerr, &stop.flag(),
+                                            file.source, nullptr, threads);
   const auto& summary = branch.summary;
   std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
             << "nfrc: " << summary.num_points << " points, " << summary.num_folds

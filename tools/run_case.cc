@@ -26,7 +26,8 @@ void PrintReduction(const ReductionReport& report, std::ostream& out) {
 }
 
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
-               const std::atomic<bool>* stop, const nlohmann::json& source, TraceResult* trace) {
+               const std::atomic<bool>* stop, const nlohmann::json& source, TraceResult* trace,
+               int threads) {
   the_case.Validate();
   if (progress != nullptr && the_case.reduction) PrintReduction(*the_case.reduction, *progress);
   BranchWriter writer(out_dir, the_case, source);
@@ -34,6 +35,7 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
   options.progress = progress;
   options.stop = stop;
   options.observer = &writer;
+  options.threads = threads;
   TraceResult result = TraceCase(the_case, options);
   writer.SetWindows(result.quasi_periodic_windows);
   writer.Finish(result.branch.summary);

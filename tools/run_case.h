@@ -19,8 +19,9 @@ namespace nfrc {
 void PrintReduction(const ReductionReport& report, std::ostream& out);
 
 // With `trace`, the main branch's whole TraceResult (bifurcations, measures) is kept there.
+// `threads`: TraceOptions::threads, for every branch traced.
 Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* progress,
                const std::atomic<bool>* stop = nullptr, const nlohmann::json& source = nullptr,
-               TraceResult* trace = nullptr);
+               TraceResult* trace = nullptr, int threads = -1);
 
 }  // namespace nfrc

@@ -288,7 +288,7 @@ std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_di
 }
 
 SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run,
-                       const std::string& out_dir, const std::atomic<bool>* stop) {
+                       const std::string& out_dir, const std::atomic<bool>* stop, int threads) {
   const std::string dir = out_dir + "/" + run.dir;
   std::filesystem::remove(dir + "/run.json");
   const auto start = std::chrono::steady_clock::now();
@@ -296,7 +296,7 @@ SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run
     const CaseFile at_run = CaseForRun(file, plan, static_cast<size_t>(run.index));
     const Case& the_case = at_run.the_case;
     TraceResult trace;
-    RunCase(the_case, dir, nullptr, stop, at_run.source, &trace);
+    RunCase(the_case, dir, nullptr, stop, at_run.source, &trace, threads);
     const ContinuationSummary& summary = trace.branch.summary;
     run.termination = ToString(summary.reason);
     run.message = summary.message;
@@ -371,12 +371,14 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
   // An I/O error or a broken invariant in one thread ends the sweep: no new runs start, and it
   // is rethrown here once the running ones have finished.
   std::atomic<bool> aborted{false};
+  const int hill_threads = options.jobs > 1 ? 0 : -1;  // TraceOptions::threads of each branch
   std::exception_ptr first_error;
   auto worker = [&] {
     for (size_t i = next++; i < todo.size() && !aborted.load(); i = next++) {
       if (options.stop != nullptr && options.stop->load()) return;
       try {
-        const SweepRun run = TraceSweepRun(file, plan, runs[todo[i]], out_dir, options.stop);
+        const SweepRun run =
+            TraceSweepRun(file, plan, runs[todo[i]], out_dir, options.stop, hill_threads);
         const std::lock_guard<std::mutex> lock(mutex);
         runs[todo[i]] = run;
         WriteSweepRecord(out_dir, plan, runs);

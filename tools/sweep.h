@@ -92,7 +92,9 @@ struct SweepRun {
 };
 
 struct SweepOptions {
-  int jobs = 1;                             // branches traced at once, each in its own thread
+  // Branches traced at once, each in its own thread. Above 1 each branch analyses its
+  // stability on its own thread (TraceOptions::threads 0): the jobs already share the cores.
+  int jobs = 1;
   std::ostream* progress = nullptr;         // a line per finished branch
   const std::atomic<bool>* stop = nullptr;  // raised: running branches stop after their point
 };
@@ -119,7 +121,8 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parame
 //   DIR/sweep.json of the same sweep kept (`resumed`), the others pending; InputError as
 //   CheckGrid, for a value that is not finite (naming --values), or naming --out as RunSweep.
 // - PendingRun: run `index` of the grid, not yet traced.
-// - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json.
+// - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json, with
+//   `threads` for Hill's analyses (TraceOptions::threads).
 // - ReadRunRecord: that record, if the run has one.
 // - WriteSweepRecord: DIR/sweep.json for these runs; PrintRun: the progress line of a run.
 // - CaseForRun: run `index`'s case and its case-file JSON (InputError if the run's values do
@@ -127,7 +130,7 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parame
 std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_dir);
 SweepRun PendingRun(const SweepPlan& plan, size_t index);
 SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run,
-                       const std::string& out_dir, const std::atomic<bool>* stop);
+                       const std::string& out_dir, const std::atomic<bool>* stop, int threads);
 std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
                                       const SweepPlan& plan);
 void WriteSweepRecord(const std::string& out_dir, const SweepPlan& plan,

@@ -144,7 +144,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
       if (next >= static_cast<std::int64_t>(todo.size())) break;
       const int k = todo[static_cast<size_t>(next)];
       SweepRun run =
-          TraceSweepRun(file, plan, PendingRun(plan, static_cast<size_t>(k)), out_dir, stop);
+          TraceSweepRun(file, plan, PendingRun(plan, static_cast<size_t>(k)), out_dir, stop,
+                        /*threads=*/0);  // ranks share the cores already
       PrintRun(progress, plan, run);
       if (rank == 0) {
         Refresh(out_dir, plan, &runs);

@@ -242,21 +242,30 @@ def manifest_members(path):
     return Case._manifest_members(os.fspath(path))
 
 
-def trace(case, progress=False):
-    """Traces the branch of `case`; progress=True prints a line per point on stderr."""
-    branch = _nfrc._trace(case, bool(progress))
+def _threads(threads):
+    """`threads` as the analyses take it: a whole number (a bool or a float is refused)."""
+    if isinstance(threads, bool) or not isinstance(threads, int):
+        raise TypeError(f"threads: must be a whole number, got {threads!r}")
+    return threads
+
+
+def trace(case, progress=False, threads=-1):
+    """Traces the branch of `case`; progress=True prints a line per point on stderr. With the
+    case's stability on, Hill's analyses run on `threads` threads beside the trace (-1: one per
+    further core; 0: on the tracing thread only); the results are the same for any count."""
+    branch = _nfrc._trace(case, bool(progress), _threads(threads))
     if branch.interrupted:
         raise Interrupted(branch)
     return branch
 
 
-def switch_branch(case, bifurcation, progress=False):
+def switch_branch(case, bifurcation, progress=False, threads=-1):
     """The branch born at `bifurcation` (a period_doubling or branch_point of trace(case)):
     the period-2 branch of a period doubling (harmonics of omega/2; branch.period_multiple is
     2 and omega is the forcing frequency) or the other branch through a branch point, as
     `nfrc run` writes to period2_<k>/ and branch_point_<k>/. A switch that finds no start
-    returns a branch without points whose summary says why."""
-    branch = _nfrc._switch_branch(case, bifurcation, bool(progress))
+    returns a branch without points whose summary says why. `threads` as for trace."""
+    branch = _nfrc._switch_branch(case, bifurcation, bool(progress), _threads(threads))
     if branch.interrupted:
         raise Interrupted(branch)
     return branch

@@ -139,11 +139,13 @@ void BindTrace(py::module_& m) {
 
   m.def(
       "_trace",
-      [](const PyCase& c, bool progress) {
+      [](const PyCase& c, bool progress, int threads) {
         // The analysis gets its own copy: other Python threads may change `c` meanwhile.
         Case the_case = c.value;
         InterruptWatch watch;
         TraceOptions options;
+        options.threads = threads;
+        options.Validate();
         options.progress = progress ? &std::cerr : nullptr;
         options.stop = watch.stop();
         options.observer = &watch;
@@ -155,14 +157,16 @@ void BindTrace(py::module_& m) {
         branch.interrupted = watch.Finish();
         return branch;
       },
-      "case"_a, "progress"_a = false);
+      "case"_a, "progress"_a = false, "threads"_a = -1);
 
   m.def(
       "_switch_branch",
-      [](const PyCase& c, const BifurcationView& bifurcation, bool progress) {
+      [](const PyCase& c, const BifurcationView& bifurcation, bool progress, int threads) {
         const Case the_case = c.value;
         InterruptWatch watch;
         TraceOptions options;
+        options.threads = threads;
+        options.Validate();
         options.progress = progress ? &std::cerr : nullptr;
         options.stop = watch.stop();
         options.observer = &watch;
@@ -176,7 +180,7 @@ void BindTrace(py::module_& m) {
         branch.interrupted = watch.Finish();
         return branch;
       },
-      "case"_a, "bifurcation"_a, "progress"_a = false);
+      "case"_a, "bifurcation"_a, "progress"_a = false, "threads"_a = -1);
 }
 
 }  // namespace nfrc::python

@@ -5,6 +5,7 @@ import signal
 import threading
 import time
 
+import numpy as np
 import pytest
 
 import nfrc
@@ -60,3 +61,24 @@ def test_case_stays_usable_while_traced_in_a_thread():
     case.continuation.omega_end = 0.5  # the running trace has its own copy
     worker.join()
     assert list(result["branch"].omega) == list(reference.omega)
+
+
+def test_stability_threads_change_no_result(source_dir):
+    # NLvib's penalty spring: dozens of Neimark-Sacker points, localised while the trace goes on.
+    case = nfrc.load_case(str(source_dir / "cases/contact/nlvib.json#penalty"))
+    in_turn = nfrc.trace(case, threads=0)
+    beside = nfrc.trace(case, threads=2)
+    assert len(in_turn.bifurcations) >= 2
+    assert np.array_equal(beside.omega, in_turn.omega)
+    assert [f.multipliers for f in beside.floquet] == [f.multipliers for f in in_turn.floquet]
+    assert ([(b.type, b.omega, b.after_point) for b in beside.bifurcations] ==
+            [(b.type, b.omega, b.after_point) for b in in_turn.bifurcations])
+
+
+@pytest.mark.parametrize("threads, error, message", [(-2, nfrc.InputError, "threads:"),
+                                                     (1.5, TypeError, "threads:"),
+                                                     (True, TypeError, "threads:")])
+def test_stability_threads_are_checked(threads, error, message):
+    case = nfrc.Case.from_dict(friction_dict(max_harmonic=3, samples=16))
+    with pytest.raises(error, match=message):
+        nfrc.trace(case, threads=threads)

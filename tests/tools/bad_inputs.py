@@ -367,6 +367,10 @@ command("sweep_range_short", ["sweep", duffing, "--out", out, "--parameter",
 command("sweep_range_count_1", ["sweep", duffing, "--out", out, "--parameter",
                                 "model.forcing[0].cos", "--range", "0.1:0.2:1"], EXIT_USAGE,
         "--range")
+command("run_threads_negative", ["run", duffing, "--out", out, "--threads", "-2"], EXIT_USAGE,
+        "--threads")
+command("run_threads_word", ["run", duffing, "--out", out, "--threads", "all"], EXIT_USAGE,
+        "--threads")
 command("sweep_jobs_0", ["sweep", duffing, "--out", out, "--parameter", "model.forcing[0].cos",
                          "--values", "0.1", "--jobs", "0"], EXIT_USAGE, "--jobs")
 command("sweep_bad_path", ["sweep", duffing, "--out", out, "--parameter", "model.mass",

@@ -34,6 +34,18 @@ for f in branch.json branch.csv; do
   [ -s "$work/duffing/$f" ] || { echo "FAIL duffing run: $f missing"; failures=$((failures + 1)); }
 done
 grep -q "omega=" "$work/err" || { echo "FAIL progress lines missing on stderr"; failures=$((failures + 1)); }
+# Hill's analyses beside the trace change the time, never the results: the same CSV and the
+# same branch.json but for its wall time, with and without threads.
+for threads in 0 3; do
+  expect "nlvib --threads $threads" 0 "points" -- "$nfrc" run "$src/cases/contact/nlvib.json#penalty" \
+    --out "$work/nlvib_$threads" --threads "$threads"
+done
+cmp -s "$work/nlvib_0/branch.csv" "$work/nlvib_3/branch.csv" ||
+  { echo "FAIL --threads 0 and 3 wrote different branch.csv"; failures=$((failures + 1)); }
+diff <(grep -v wall_time_s "$work/nlvib_0/branch.json") <(grep -v wall_time_s "$work/nlvib_3/branch.json") \
+  >/dev/null || { echo "FAIL --threads 0 and 3 wrote different branch.json"; failures=$((failures + 1)); }
+grep -q neimark_sacker "$work/nlvib_3/branch.json" ||
+  { echo "FAIL nlvib: no Neimark-Sacker point in branch.json"; failures=$((failures + 1)); }
 expect "duffing fold curve" 0 "wrote $work/fc/fold_curve.json" -- "$nfrc" fold-curve \
   "$src/cases/duffing.json" --parameter "model.forcing[0].cos" --to 0.03 --out "$work/fc"
 /usr/bin/python3 - "$work/fc/fold_curve.json" <<'PY' || { echo "FAIL fold_curve.json"; failures=$((failures + 1)); }
