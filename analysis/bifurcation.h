@@ -26,7 +26,7 @@ class StabilityMonitor {
   // starts from the previous analysis of this form.
   FloquetResult Analyze(const Eigen::VectorXd& y, double omega);
   // The same with Arnoldi's start in and out through `warm_start` (SolveHill's krylov_start:
-  // empty starts cold), for callers that chain analyses of their own (HillWorkers).
+  // empty starts cold), for callers that chain analyses of their own (StabilityPipeline).
   FloquetResult Analyze(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* warm_start);
 
   // The bifurcation between consecutive points a and b with their Floquet results, if their

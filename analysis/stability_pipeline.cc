@@ -1,5 +1,6 @@
 #include "analysis/stability_pipeline.h"
 
+#include <algorithm>
 #include <cassert>
 #include <utility>
 
@@ -63,11 +64,10 @@ PointStability StabilityPipeline::Take(int index) {
   return result;
 }
 
-bool StabilityPipeline::HasWork() const {
-  for (const auto& [id, chain] : chains_) {
-    if (!chain.busy && chain.next < chain.submitted) return true;
-  }
-  return false;
+std::map<int, StabilityPipeline::Chain>::iterator StabilityPipeline::ChainWithWork() {
+  return std::find_if(chains_.begin(), chains_.end(), [](const auto& entry) {
+    return !entry.second.busy && entry.second.next < entry.second.submitted;
+  });
 }
 
 void StabilityPipeline::Prune(int index) {
@@ -80,26 +80,21 @@ void StabilityPipeline::Prune(int index) {
 }
 
 bool StabilityPipeline::RunChain(StabilityMonitor& monitor, std::unique_lock<std::mutex>& lock) {
-  auto found = chains_.begin();
-  while (found != chains_.end() &&
-         (found->second.busy || found->second.next == found->second.submitted)) {
-    ++found;
-  }
+  const auto found = ChainWithWork();
   if (found == chains_.end()) return false;
   const int id = found->first;
   Chain& chain = found->second;  // std::map: stays valid while other chains come and go
   chain.busy = true;
   while (chain.next < chain.submitted && !stopping_) {
     const int index = id * kChainPoints + chain.next;
-    const Point& point = points_.at(index);
-    const Eigen::VectorXd y = point.point.y;
-    const double omega = point.point.lambda;
+    // Read unlocked: a point not yet analysed is neither written nor erased by other threads.
+    const BranchPoint& point = points_.at(index).point;
     Eigen::VectorXd warm_start = std::move(chain.warm_start);
     lock.unlock();
     std::optional<FloquetResult> result;
     std::exception_ptr error;
     try {
-      result = monitor.Analyze(y, omega, &warm_start);
+      result = monitor.Analyze(point.y, point.lambda, &warm_start);
     } catch (...) {
       error = std::current_exception();  // rethrown by Take
     }
@@ -134,14 +129,16 @@ void StabilityPipeline::Localise(int index, StabilityMonitor& monitor,
     changed_.notify_all();
     return;
   }
-  const BranchPoint point_a = a->second.point, point_b = b->second.point;
-  const FloquetResult floquet_a = *a->second.floquet, floquet_b = *b->second.floquet;
-  const std::optional<Fold> fold = b->second.fold_before;
+  // Read unlocked: analysed points are no longer written, and neither is erased before this
+  // localisation is done (Prune).
+  const Point& point_a = a->second;
+  const Point& point_b = b->second;
   lock.unlock();
   std::optional<Bifurcation> found;
   std::exception_ptr error;
   try {
-    found = monitor.Between(point_a, floquet_a, point_b, floquet_b, fold ? &*fold : nullptr);
+    found = monitor.Between(point_a.point, *point_a.floquet, point_b.point, *point_b.floquet,
+                            point_b.fold_before ? &*point_b.fold_before : nullptr);
   } catch (...) {
     error = std::current_exception();  // rethrown by Take
   }
@@ -160,7 +157,7 @@ void StabilityPipeline::Work() {
   std::optional<StabilityMonitor> monitor;
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    changed_.wait(lock, [&] { return stopping_ || HasWork(); });
+    changed_.wait(lock, [&] { return stopping_ || ChainWithWork() != chains_.end(); });
     if (stopping_) return;
     if (!monitor) {
       lock.unlock();

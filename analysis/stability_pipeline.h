@@ -84,7 +84,8 @@ class StabilityPipeline {
   // Localises between points index − 1 and index if both are analysed and no thread has.
   void Localise(int index, StabilityMonitor& monitor, std::unique_lock<std::mutex>& lock);
   bool Done(int index) const;
-  bool HasWork() const;
+  // The lowest chain that has points to analyse and no thread on it, or chains_.end().
+  std::map<int, Chain>::iterator ChainWithWork();
   // Forgets the points no longer needed (taken, and the localisation after them done).
   void Prune(int index);
 

@@ -97,7 +97,7 @@ struct TraceOptions {
   // linear guess and the harmonic ladder (branch switching); null: none.
   const Eigen::VectorXd* start = nullptr;
   // Threads that run Hill's analyses beside the tracing one, which runs them too while it
-  // waits for them (analysis/hill_workers.h): -1 (default) one per further hardware thread,
+  // waits for them (analysis/stability_pipeline.h): -1 (default) one per further hardware thread,
   // 0 none. The results are the same, bit for bit, whatever the count.
   int threads = -1;
   // Throws InputError("threads: ...") for a count outside [-1, kMaxThreads].

@@ -6,6 +6,14 @@
 
 namespace nfrc {
 
+std::string StoppedByObserverMessage(int index, const std::string& lambda_name, double lambda) {
+  std::ostringstream message;
+  message.precision(8);  // as the engine's other messages
+  message << "stopped by the observer at point " << index << " (" << lambda_name << "=" << lambda
+          << ")";
+  return message.str();
+}
+
 void StopBranchAfter(int last, const std::string& lambda_name, Branch* branch) {
   assert(last >= 0 && last < static_cast<int>(branch->points.size()));
   branch->points.resize(static_cast<size_t>(last) + 1);
@@ -14,11 +22,7 @@ void StopBranchAfter(int last, const std::string& lambda_name, Branch* branch) {
   summary.num_points = static_cast<int>(branch->points.size());
   summary.num_folds = static_cast<int>(branch->folds.size());
   summary.reason = TerminationReason::kStoppedByObserver;
-  std::ostringstream message;
-  message.precision(8);  // as the engine's own messages
-  message << "stopped by the observer at point " << last << " (" << lambda_name << "="
-          << branch->points.back().lambda << ")";
-  summary.message = message.str();
+  summary.message = StoppedByObserverMessage(last, lambda_name, branch->points.back().lambda);
 }
 
 const char* ToString(TerminationReason reason) {

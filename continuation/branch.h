@@ -80,6 +80,9 @@ struct Branch {
   ContinuationSummary summary;
 };
 
+// The summary message of a branch its observer stopped at point `index` (λ = `lambda`).
+std::string StoppedByObserverMessage(int index, const std::string& lambda_name, double lambda);
+
 // Ends `branch` at point `last` as if its observer had stopped it there: the points after it
 // and the folds past it go, and the summary counts what is left (its steps and Newton
 // iterations keep the work done). For an observer that hears of points later than the engine

@@ -572,8 +572,7 @@ class Continuer {
     progress_.Point(index, branch_.points.back());
     if (observer_ != nullptr && !observer_->OnPoint(branch_.points.back(), index)) {
       Finish(TerminationReason::kStoppedByObserver,
-             "stopped by the observer at point " + std::to_string(index) + " (" +
-                 Describe(options_.lambda_name, point.lambda) + ")");
+             StoppedByObserverMessage(index, options_.lambda_name, point.lambda));
     }
   }
 

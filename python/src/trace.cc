@@ -144,8 +144,7 @@ void BindTrace(py::module_& m) {
         Case the_case = c.value;
         InterruptWatch watch;
         TraceOptions options;
-        options.threads = threads;
-        options.Validate();
+        options.threads = threads;  // TraceCase validates it
         options.progress = progress ? &std::cerr : nullptr;
         options.stop = watch.stop();
         options.observer = &watch;
@@ -165,8 +164,7 @@ void BindTrace(py::module_& m) {
         const Case the_case = c.value;
         InterruptWatch watch;
         TraceOptions options;
-        options.threads = threads;
-        options.Validate();
+        options.threads = threads;  // TraceCase validates it
         options.progress = progress ? &std::cerr : nullptr;
         options.stop = watch.stop();
         options.observer = &watch;
