@@ -62,9 +62,10 @@ struct Bifurcation {
   PointMeasures measures;
   // The multipliers that cross the unit circle there (one real, or a complex pair).
   std::vector<std::complex<double>> crossing_multipliers;
-  // The localised multipliers stay off the unit circle (by more than kJumpModulus): they
-  // jumped across it where a sampled nonsmooth law changed its active set, a discontinuous
-  // bifurcation rather than a smooth crossing; the type names the side they jumped to.
+  // The multipliers at an end of the localised bracket stay off the unit circle (by more than
+  // kJumpModulus): they jumped across it where a sampled nonsmooth law changed its active set,
+  // a discontinuous bifurcation rather than a smooth crossing; the type names the side they
+  // jumped to.
   bool discontinuous = false;
 };
 

@@ -8,8 +8,9 @@
 
 namespace nfrc {
 
-StabilityPipeline::StabilityPipeline(const Case& the_case, StabilityMonitor& tracing, int threads)
-    : case_(the_case), tracing_(tracing) {
+StabilityPipeline::StabilityPipeline(const Case& the_case, StabilityMonitor& tracing,
+                                     SolutionReporter& tracing_reporter, int threads)
+    : case_(the_case), tracing_(tracing), tracing_reporter_(tracing_reporter) {
   assert(threads >= 0);
   for (int t = 0; t < threads; ++t) threads_.emplace_back([this] { Work(); });
 }
@@ -53,12 +54,12 @@ PointStability StabilityPipeline::Take(int index) {
   std::unique_lock<std::mutex> lock(mutex_);
   while (!Done(index)) {
     if (worker_error_) std::rethrow_exception(worker_error_);
-    if (!RunChain(tracing_, lock)) changed_.wait(lock);
+    if (!RunChain(tracing_, tracing_reporter_, lock)) changed_.wait(lock);
   }
   Point& p = points_.at(index);
   if (p.error) std::rethrow_exception(p.error);
   // A copy: the localisation after this point may still need its multipliers.
-  PointStability result{*p.floquet, std::move(p.bifurcation_before)};
+  PointStability result{*p.floquet, std::move(p.bifurcation_before), std::move(p.measures)};
   p.taken = true;
   Prune(index);
   return result;
@@ -79,7 +80,8 @@ void StabilityPipeline::Prune(int index) {
   }
 }
 
-bool StabilityPipeline::RunChain(StabilityMonitor& monitor, std::unique_lock<std::mutex>& lock) {
+bool StabilityPipeline::RunChain(StabilityMonitor& monitor, SolutionReporter& reporter,
+                                 std::unique_lock<std::mutex>& lock) {
   const auto found = ChainWithWork();
   if (found == chains_.end()) return false;
   const int id = found->first;
@@ -92,9 +94,11 @@ bool StabilityPipeline::RunChain(StabilityMonitor& monitor, std::unique_lock<std
     Eigen::VectorXd warm_start = std::move(chain.warm_start);
     lock.unlock();
     std::optional<FloquetResult> result;
+    SolutionMeasures measures;
     std::exception_ptr error;
     try {
       result = monitor.Analyze(point.y, point.lambda, &warm_start);
+      measures = reporter.Measure(point.y, point.lambda);
     } catch (...) {
       error = std::current_exception();  // rethrown by Take
     }
@@ -102,6 +106,7 @@ bool StabilityPipeline::RunChain(StabilityMonitor& monitor, std::unique_lock<std
     chain.warm_start = std::move(warm_start);
     Point& analysed = points_.at(index);
     analysed.floquet = std::move(result);
+    analysed.measures = std::move(measures);
     analysed.error = error;
     ++chain.next;
     changed_.notify_all();
@@ -155,6 +160,7 @@ void StabilityPipeline::Work() {
   // Built at the first analysis: a short trace may leave a worker without one.
   std::unique_ptr<HarmonicSystem> system;
   std::optional<StabilityMonitor> monitor;
+  std::optional<SolutionReporter> reporter;
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     changed_.wait(lock, [&] { return stopping_ || ChainWithWork() != chains_.end(); });
@@ -171,10 +177,11 @@ void StabilityPipeline::Work() {
         return;
       }
       monitor.emplace(*system, case_.stability, case_.continuation);
+      reporter.emplace(*system, case_.output_dofs, case_.output_names);
       lock.lock();
       continue;
     }
-    RunChain(*monitor, lock);
+    RunChain(*monitor, *reporter, lock);
   }
 }
 

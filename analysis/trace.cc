@@ -37,8 +37,8 @@ class TraceRecorder : public ContinuationObserver {
         monitor_(system, the_case.stability, the_case.continuation),
         result_(result) {
     if (the_case.stability.enabled) {
-      stability_ =
-          std::make_unique<StabilityPipeline>(the_case, monitor_, HillThreads(options.threads));
+      stability_ = std::make_unique<StabilityPipeline>(the_case, monitor_, reporter_,
+                                                       HillThreads(options.threads));
     }
   }
 
@@ -48,10 +48,11 @@ class TraceRecorder : public ContinuationObserver {
     TracePoint& record = std::get<TracePoint>(events_.emplace_back(std::in_place_type<TracePoint>));
     record.index = index;
     record.point = point;
-    record.measures = reporter_.Measure(point.y, point.lambda);
-    if (stability_) {
+    if (stability_) {  // which measures the point beside its analysis
       const bool fold_before = last_fold_ && last_fold_->after_point == index - 1;
       stability_->Submit(index, point, fold_before ? &*last_fold_ : nullptr);
+    } else {
+      record.measures = reporter_.Measure(point.y, point.lambda);
     }
     ++pending_points_;
     if (options_.solve_signals) {
@@ -107,6 +108,7 @@ class TraceRecorder : public ContinuationObserver {
           if (pending_points_ <= max_pending && !stability_->Ready(point->index)) return;
           PointStability stability = stability_->Take(point->index);
           point->floquet = std::move(stability.floquet);
+          point->measures = std::move(stability.measures);
           bifurcation = std::move(stability.bifurcation_before);
         }
         --pending_points_;

@@ -45,14 +45,72 @@ bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::Vec
 
 bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                     const EliminationBlocks* elimination, int* determinant_sign) {
-  if (elimination != nullptr && !elimination->empty() &&
-      SolveEliminating(a, b, *elimination, x, determinant_sign)) {
-    return true;
+  AugmentedSolver solver;
+  const bool solved = solver.Factorize(a, b, x, elimination);
+  if (determinant_sign != nullptr) *determinant_sign = solved ? solver.determinant_sign() : 0;
+  return solved;
+}
+
+bool AugmentedSolver::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                            const EliminationBlocks* elimination) {
+  return Factorize(a_, b, x, elimination);
+}
+
+bool AugmentedSolver::Factorize(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                                Eigen::VectorXd* x, const EliminationBlocks* elimination) {
+  kind_ = Kind::kNone;
+  sign_ = 0;
+  if (elimination != nullptr && !elimination->empty()) {
+    elimination_ = BlockElimination::Factor(a, *elimination);
+    if (elimination_) {
+      Eigen::MatrixXd schur;
+      Eigen::VectorXd schur_rhs;
+      const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
+      elimination_->Reduce(a, b, block_solutions, &schur, &schur_rhs);
+      lu_.Compute(schur);
+      if (RegularForElimination(lu_)) {
+        elimination_->BackSubstitute(block_solutions, lu_.Solve(schur_rhs), x);
+        if (x->allFinite()) {
+          kind_ = Kind::kEliminated;
+          sign_ = elimination_->determinant_sign() * lu_.DeterminantSign();
+          return true;
+        }
+      }
+    }
   }
-  if (SolveRegular(a, b, x, determinant_sign)) return true;
-  if (determinant_sign != nullptr) *determinant_sign = 0;
-  Eigen::FullPivLU<Eigen::MatrixXd> full(a);
-  *x = full.solve(b);
+  lu_.Compute(a);
+  if (PivotsAbove(lu_, kSingularPivotRatio)) {
+    *x = lu_.Solve(b);
+    if (x->allFinite()) {
+      kind_ = Kind::kRegular;
+      sign_ = lu_.DeterminantSign();
+      return true;
+    }
+  }
+  full_.compute(a);
+  *x = full_.solve(b);
+  if (!x->allFinite()) return false;
+  kind_ = Kind::kFullPivoting;
+  return true;
+}
+
+bool AugmentedSolver::SolveAgain(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+  switch (kind_) {
+    case Kind::kNone:
+      return false;
+    case Kind::kEliminated: {
+      const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
+      elimination_->BackSubstitute(block_solutions,
+                                   lu_.Solve(elimination_->ReduceRhs(a_, b, block_solutions)), x);
+      break;
+    }
+    case Kind::kRegular:
+      *x = lu_.Solve(b);
+      break;
+    case Kind::kFullPivoting:
+      *x = full_.solve(b);
+      break;
+  }
   return x->allFinite();
 }
 

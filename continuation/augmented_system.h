@@ -1,7 +1,10 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <optional>
 
+#include "continuation/block_elimination.h"
+#include "continuation/dense_lu.h"
 #include "continuation/evaluator.h"
 #include "continuation/scaling.h"
 
@@ -32,5 +35,36 @@ bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::Vec
 bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                     const EliminationBlocks* elimination = nullptr,
                     int* determinant_sign = nullptr);
+
+// SolveAugmented on a matrix it holds, keeping the factorisation that solved for further
+// right-hand sides: the corrector's last Newton matrix then gives the next tangent.
+class AugmentedSolver {
+ public:
+  // The matrix, filled by the caller before Solve (AugmentedMatrix into it keeps its storage).
+  Eigen::MatrixXd& matrix() { return a_; }
+  const Eigen::MatrixXd& matrix() const { return a_; }
+  // Factorises matrix() and solves, exactly as SolveAugmented; false if x is not finite.
+  bool Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, const EliminationBlocks* elimination);
+  // Solves again with the factorisation of the last Solve that succeeded; matrix() must be
+  // unchanged since. False if x is not finite or no Solve succeeded.
+  bool SolveAgain(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
+  // The sign of det matrix() from that factorisation (0 after the full-pivoting fallback).
+  int determinant_sign() const { return sign_; }
+
+ private:
+  friend bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                             const EliminationBlocks* elimination, int* determinant_sign);
+  // Solve on `a` (matrix() or the caller's, for SolveAugmented).
+  bool Factorize(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                 const EliminationBlocks* elimination);
+
+  enum class Kind { kNone, kEliminated, kRegular, kFullPivoting };
+  Eigen::MatrixXd a_;
+  Kind kind_ = Kind::kNone;
+  std::optional<BlockElimination> elimination_;  // kEliminated: the blocks' part
+  DenseLu lu_;                                   // of the Schur complement, or of a (kRegular)
+  Eigen::FullPivLU<Eigen::MatrixXd> full_;       // kFullPivoting
+  int sign_ = 0;
+};
 
 }  // namespace nfrc

@@ -1,5 +1,6 @@
 #include "continuation/block_elimination.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -24,6 +25,39 @@ void ValidateEliminationBlocks(const EliminationBlocks& blocks, int n) {
   }
 }
 
+namespace {
+
+// Rows read at once where the blocks' rows are one run: most chunks of a block's column are
+// zero, and a chunk's sum of magnitudes (zero exactly when every entry is; NaN when one is)
+// tests them in vector instructions instead of one branch per entry.
+constexpr int kScanChunk = 16;
+
+// Calls visit(row) for each of block_rows (ascending) whose entry in `column` is not zero
+// (NaN included), in increasing order.
+template <typename Visit>
+void ForEachNonzeroBlockRow(const Eigen::MatrixXd& a, int column,
+                            const std::vector<int>& block_rows, Visit visit) {
+  const int count = static_cast<int>(block_rows.size());
+  if (count == 0) return;
+  const int first = block_rows.front();
+  if (block_rows.back() - first + 1 != count) {
+    for (const int row : block_rows) {
+      if (a(row, column) != 0.0) visit(row);
+    }
+    return;
+  }
+  for (int start = 0; start < count; start += kScanChunk) {
+    const int length = std::min(kScanChunk, count - start);
+    const auto chunk = a.col(column).segment(first + start, length);
+    if (chunk.cwiseAbs().sum() == 0.0) continue;
+    for (int k = 0; k < length; ++k) {
+      if (chunk(k) != 0.0) visit(first + start + k);
+    }
+  }
+}
+
+}  // namespace
+
 std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& a,
                                                          const EliminationBlocks& blocks) {
   BlockElimination result;
@@ -36,35 +70,34 @@ std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& 
   for (int i = 0; i < size; ++i) {
     if (block_of[static_cast<size_t>(i)] < 0) result.rest_.push_back(i);
   }
-  for (int col = 0; col < size; ++col) {  // column-major: down each column
+  std::vector<int> block_rows;
+  for (int row = 0; row < size; ++row) {
+    if (block_of[static_cast<size_t>(row)] >= 0) block_rows.push_back(row);
+  }
+  // Down each block's column (the storage's order), in the blocks' rows only: the rest's
+  // rows of a block column (A_rest,B) may hold anything.
+  for (int col = 0; col < size; ++col) {
     const int other = block_of[static_cast<size_t>(col)];
     if (other < 0) continue;
-    for (int row = 0; row < size; ++row) {
-      if (a(row, col) == 0.0) continue;  // most entries of a block's column: tested first
+    ForEachNonzeroBlockRow(a, col, block_rows, [&](int row) {
       const int block = block_of[static_cast<size_t>(row)];
-      if (block >= 0 && other != block) {
+      if (other != block) {
         throw std::logic_error("SolveEliminating: blocks " + std::to_string(block) + " and " +
                                std::to_string(other) + " are coupled");
       }
-    }
+    });
   }
   const std::vector<int>& rest = result.rest_;
   const int num_rest = static_cast<int>(rest.size());
   result.blocks_.resize(blocks.size());
   // Each block's coupled rest columns, found down the columns (the storage's order; along
   // the blocks' rows it was a strided read per entry), in increasing order.
-  std::vector<int> block_rows;
-  for (int row = 0; row < size; ++row) {
-    if (block_of[static_cast<size_t>(row)] >= 0) block_rows.push_back(row);
-  }
   for (int j = 0; j < num_rest; ++j) {
-    const int column = rest[static_cast<size_t>(j)];
-    for (const int row : block_rows) {
-      if (a(row, column) == 0.0) continue;
+    ForEachNonzeroBlockRow(a, rest[static_cast<size_t>(j)], block_rows, [&](int row) {
       std::vector<int>& coupled =
           result.blocks_[static_cast<size_t>(block_of[static_cast<size_t>(row)])].coupled;
       if (coupled.empty() || coupled.back() != j) coupled.push_back(j);
-    }
+    });
   }
   for (size_t k = 0; k < blocks.size(); ++k) {
     Block& block = result.blocks_[k];
@@ -137,26 +170,54 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
                               const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
                               Eigen::VectorXd* schur_rhs) const {
   const int num_rest = static_cast<int>(rest_.size());
-  *schur = a(rest_, rest_);
+  // The rest is one run of unknowns where the blocks come first or last (the harmonic
+  // problems' displacements, then the laws' unknowns and λ): copied as blocks, not entry by
+  // entry through the index list.
+  const bool run = num_rest > 0 && rest_.back() - rest_.front() + 1 == num_rest;
+  if (run) {
+    *schur = a.block(rest_.front(), rest_.front(), num_rest, num_rest);
+  } else {
+    *schur = a(rest_, rest_);
+  }
   *schur_rhs = b(rest_);
+  Eigen::VectorXd left(num_rest);
   Eigen::Index offset = 0;
-  // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike. Small blocks (a
-  // harmonic's two coefficients) are many: plain loops avoid Eigen's per-call overhead.
+  // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike, one column of A_rest,B
+  // at a time: an update of the few coupled columns of S.
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());
     const int nc = static_cast<int>(block.coupled.size());
     for (int i = 0; i < nb; ++i) {
       const int unknown = block.unknowns[static_cast<size_t>(i)];
-      const double solution = block_solutions(offset + i);
-      for (int r = 0; r < num_rest; ++r) {
-        const double left = a(rest_[static_cast<size_t>(r)], unknown);
-        if (left == 0.0) continue;
-        for (int c = 0; c < nc; ++c) (*schur)(r, block.coupled[c]) -= left * block.eliminated(i, c);
-        (*schur_rhs)(r) -= left * solution;
+      if (run) {
+        left = a.col(unknown).segment(rest_.front(), num_rest);
+      } else {
+        left = a(rest_, unknown);
       }
+      for (int c = 0; c < nc; ++c) schur->col(block.coupled[c]) -= block.eliminated(i, c) * left;
+      *schur_rhs -= block_solutions(offset + i) * left;
     }
     offset += nb;
   }
+}
+
+Eigen::VectorXd BlockElimination::ReduceRhs(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                                            const Eigen::VectorXd& block_solutions) const {
+  const int num_rest = static_cast<int>(rest_.size());
+  const bool run = num_rest > 0 && rest_.back() - rest_.front() + 1 == num_rest;  // as Reduce
+  Eigen::VectorXd rhs = b(rest_);
+  Eigen::Index offset = 0;
+  for (const Block& block : blocks_) {
+    for (const int unknown : block.unknowns) {
+      const double solution = block_solutions(offset++);
+      if (run) {
+        rhs -= solution * a.col(unknown).segment(rest_.front(), num_rest);
+      } else {
+        rhs -= solution * a(rest_, unknown);
+      }
+    }
+  }
+  return rhs;
 }
 
 void BlockElimination::BackSubstitute(const Eigen::VectorXd& block_solutions,

@@ -61,6 +61,9 @@ class BlockElimination {
   void Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
               const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
               Eigen::VectorXd* schur_rhs) const;
+  // The right-hand side alone, b_r − A_rB A_BB⁻¹ b_B, for a further one with the same `a`.
+  Eigen::VectorXd ReduceRhs(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                            const Eigen::VectorXd& block_solutions) const;
   // x from the rest's solution: x_r, and x_B = A_BB⁻¹ b_B − A_BB⁻¹ A_B,rest x_r.
   void BackSubstitute(const Eigen::VectorXd& block_solutions, const Eigen::VectorXd& rest_solution,
                       Eigen::VectorXd* x) const;

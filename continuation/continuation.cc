@@ -290,10 +290,14 @@ class Continuer {
 
     Eigen::VectorXd new_tangent;
     int orientation = 0;
-    if (!NextTangent(corrected.linearization, scaling_, settings_.residual_scale, tangent_scaled,
-                     &new_tangent, &orientation)) {
-      return Reject(std::move(record), "no tangent at the corrected point");
-    }
+    // From the corrector's last factorisation where its refinement converges, else afresh.
+    const double r = settings_.residual_scale;
+    const bool tangent_found = (corrected.last_step != nullptr &&
+                                NextTangent(*corrected.last_step, corrected.linearization, scaling_,
+                                            r, tangent_scaled, &new_tangent, &orientation)) ||
+                               NextTangent(corrected.linearization, scaling_, r, tangent_scaled,
+                                           &new_tangent, &orientation);
+    if (!tangent_found) return Reject(std::move(record), "no tangent at the corrected point");
     double angle = TurnAngle(tangent_scaled, new_tangent);
     // Past a corner of a nonsmooth branch the rule τᵀτ_prev > 0 can point the new tangent back
     // along the branch (where the motion turns by more than 90° at a sharp super-harmonic peak

@@ -31,14 +31,29 @@ constexpr double kMaxContraction = 0.25;
 
 enum class Constraint { kArclength, kFixedLambda };
 
+double Merit(const Eigen::VectorXd& residual, double constraint_residual, double residual_scale) {
+  return std::hypot(residual.norm() / residual_scale, constraint_residual);
+}
+
 double Merit(const Linearization& linearization, double constraint_residual,
              double residual_scale) {
-  return std::hypot(linearization.residual.norm() / residual_scale, constraint_residual);
+  return Merit(linearization.residual, constraint_residual, residual_scale);
 }
 
 CorrectorResult Fail(CorrectorResult result, std::string why) {
   result.converged = false;
   result.failure = std::move(why);
+  return result;
+}
+
+// On the arclength, the last iteration's factorisation goes with the point when that solver
+// (not a reused factorisation) solved it.
+CorrectorResult Converged(CorrectorResult result, Constraint constraint, AugmentedSolver solver,
+                          bool solver_solved) {
+  result.converged = true;
+  if (constraint == Constraint::kArclength && solver_solved) {
+    result.last_step = std::make_shared<const AugmentedSolver>(std::move(solver));
+  }
   return result;
 }
 
@@ -63,13 +78,18 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   result.residual_norm = result.linearization.residual.norm();
 
   Linearization trial_linearization;
+  Eigen::VectorXd trial_residual;
   // At fixed λ only the laws' rows change between iterations: their factorisation is reused.
   std::optional<ReusedFactorization> reused;
   if (constraint == Constraint::kFixedLambda && result.linearization.elimination != nullptr &&
       !result.linearization.elimination->empty()) {
     reused.emplace(*result.linearization.elimination);
   }
-  Eigen::MatrixXd augmented;  // filled anew at each iteration, in the same storage
+  // Its matrix is filled anew at each iteration, in the same storage; on the arclength the
+  // last factorisation goes out with the result (CorrectorResult::last_step).
+  AugmentedSolver solver;
+  Eigen::MatrixXd& augmented = solver.matrix();
+  bool solver_solved = false;  // whether the solver (not `reused`) solved the last iteration
   // The problem's rounding floor of ‖R‖, asked for once, from the second iteration on.
   double noise = -1.0;
   // Merit before a watchdog step and the iteration by which it must be beaten.
@@ -86,8 +106,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     // At fixed λ the last row gives Δλ = 0, so R_λ's column acts on nothing; zero, it is one
     // change less between iterations for the reused factorisation.
     if (constraint == Constraint::kFixedLambda) augmented.topRightCorner(n, 1).setZero();
-    if (!(reused && reused->Solve(augmented, rhs, &step_scaled)) &&
-        !SolveAugmented(augmented, rhs, &step_scaled, result.linearization.elimination.get())) {
+    solver_solved = !(reused && reused->Solve(augmented, rhs, &step_scaled));
+    if (solver_solved && !solver.Solve(rhs, &step_scaled, result.linearization.elimination.get())) {
       return Fail(std::move(result), "augmented system not solvable");
     }
     if (reused) result.low_rank_updates = reused->counts().updates;
@@ -110,13 +130,25 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     for (int backtrack = 0;; ++backtrack) {
       trial = result.u + alpha * step;
       if (constraint == Constraint::kFixedLambda) trial(n) = u_ref(n);
-      const bool evaluated = evaluator.Linearize(trial, &trial_linearization);
-      if (evaluated) trial_merit = Merit(trial_linearization, constraint_residual(trial), r);
+      // The full step is evaluated with its Jacobian, as it is nearly always taken; a halved
+      // one by its residual alone (a fifth to a third of the friction curves' evaluations are
+      // halvings, most of them refused), and with its Jacobian once it is taken.
+      const bool halved = backtrack > 0;
+      const bool evaluated = halved ? evaluator.Residual(trial.head(n), trial(n), &trial_residual)
+                                    : evaluator.Linearize(trial, &trial_linearization);
+      if (evaluated) {
+        trial_merit = Merit(halved ? trial_residual : trial_linearization.residual,
+                            constraint_residual(trial), r);
+      }
       if (!damp) {
         if (!evaluated) return Fail(std::move(result), "evaluation failed at a Newton iterate");
         break;
       }
-      if (evaluated && trial_merit <= (1.0 - kArmijo * alpha) * merit) break;
+      if (evaluated && trial_merit <= (1.0 - kArmijo * alpha) * merit &&
+          (!halved || evaluator.Linearize(trial, &trial_linearization))) {
+        if (halved) trial_merit = Merit(trial_linearization, constraint_residual(trial), r);
+        break;
+      }
       if (backtrack == kMaxBacktracks) {
         if (watching) {
           return Fail(std::move(result), "line search found no decrease of the residual");
@@ -152,8 +184,7 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     }
     const bool residual_small = result.residual_norm <= settings.residual_tolerance * r;
     if (update_norm <= settings.update_tolerance && residual_small) {
-      result.converged = true;
-      return result;
+      return Converged(std::move(result), constraint, std::move(solver), solver_solved);
     }
     // Two full steps contracting fast bound the error left after this one: accepted without
     // the confirming iteration whose update would fall below update_tolerance. The residual
@@ -163,19 +194,17 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
       const double theta = update_norm / previous_full_update;
       const double error = update_norm * theta / (1.0 - theta);
       if (theta <= kMaxContraction && error <= settings.update_tolerance) {
-        result.converged = true;
         result.error_estimate = error;
-        return result;
+        return Converged(std::move(result), constraint, std::move(solver), solver_solved);
       }
     }
     previous_full_update = full ? update_norm : -1.0;
     if (iteration >= 2 && result.residual_norm > settings.residual_tolerance * r &&
         result.residual_norm > kStallRatio * previous_residual) {
       if (result.residual_norm <= kNoiseFactor * noise) {
-        result.converged = true;
         result.at_noise_floor = true;
         result.noise_floor = noise;
-        return result;
+        return Converged(std::move(result), constraint, std::move(solver), solver_solved);
       }
     }
   }

@@ -1,8 +1,10 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <string>
 
+#include "continuation/augmented_system.h"
 #include "continuation/evaluator.h"
 #include "continuation/scaling.h"
 
@@ -32,6 +34,10 @@ struct CorrectorResult {
   // error left in u, at most update_tolerance; negative if accepted otherwise.
   double error_estimate = -1.0;
   std::string failure;  // why it did not converge
+  // CorrectOnArclength: the factorisation of the last Newton iteration's scaled bordered
+  // matrix (R's Jacobians at the iterate before u, the border the tangent given; null where
+  // none is kept), from which NextTangent refines the next tangent.
+  std::shared_ptr<const AugmentedSolver> last_step;
 };
 
 // Newton stops when the scaled update and the residual are below their tolerances; when the

@@ -30,6 +30,11 @@ FixedLambdaSolution SolveAtFixedLambda(ContinuationProblem& problem, const Eigen
 // The solution at `lambda` if the branch segment from `previous` (may be null: first point)
 // to `point` reaches it: `point` itself if it sits exactly there, else a fixed-λ solve from
 // the linear interpolation when λ lies strictly between the two points; nullopt otherwise.
+// Where that Newton stalls (at a kink of a nonsmooth residual no fraction of its step need
+// decrease ‖R‖; seen on the rigid DLFT contact law), the branch is followed instead:
+// arclength corrections across the chord, moved by regula falsi until their λ is λ to
+// rounding, and accepted where ‖R‖ at exactly λ meets the residual tolerance. The failed
+// solve is returned if that fails too.
 std::optional<FixedLambdaSolution> SolveAtCrossing(ContinuationProblem& problem,
                                                    const BranchPoint* previous,
                                                    const BranchPoint& point, double lambda,

@@ -1,5 +1,6 @@
 #include "continuation/tangent.h"
 
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -13,6 +14,12 @@ namespace {
 // ‖J t‖ relative to ‖J‖_F‖t‖ for a null vector t: a backward-stable LU leaves ~1e-14; a
 // bordered system that is singular in R_y (a start at a fold) leaves O(1).
 constexpr double kNullResidual = 1e-8;
+// The tangent from a factorisation of the bordered matrix one Newton update away is refined
+// against the point's own at most this many times, and accepted once a correction is below
+// kRefinedTangent of the solution (the tangent of the point's Jacobian to ~1e-10; within one
+// update of quadratic Newton one refinement usually gets there, across a kink it does not).
+constexpr int kMaxTangentRefinements = 2;
+constexpr double kRefinedTangent = 1e-10;
 // A pivot this far below the largest leaves the sign of a determinant to rounding.
 constexpr double kSingularPivotRatio = 1e2 * std::numeric_limits<double>::epsilon();
 
@@ -50,6 +57,20 @@ bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
   return tangent_scaled->allFinite();
 }
 
+namespace {
+
+// The tangent from the bordered system's solution s for [0; 1]: s/‖s‖, refused where it does
+// not keep the orientation (a full-pivoting fallback on a singular border may lose it).
+bool TangentFromSolution(const Eigen::VectorXd& solution, const Eigen::VectorXd& previous_scaled,
+                         Eigen::VectorXd* tangent_scaled) {
+  const double norm = solution.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+  *tangent_scaled = solution / norm;
+  return tangent_scaled->dot(previous_scaled) > 0.0;
+}
+
+}  // namespace
+
 bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
                  const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
                  int* orientation) {
@@ -62,11 +83,37 @@ bool NextTangent(const Linearization& linearization, const Scaling& scaling, dou
     return false;
   }
   if (orientation != nullptr) *orientation = sign;
-  const double norm = solution.norm();
-  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
-  *tangent_scaled = solution / norm;
-  // A full-pivoting fallback on a singular border may lose the orientation: refuse it.
-  return tangent_scaled->dot(previous_scaled) > 0.0;
+  return TangentFromSolution(solution, previous_scaled, tangent_scaled);
+}
+
+bool NextTangent(const AugmentedSolver& last_step, const Linearization& linearization,
+                 const Scaling& scaling, double residual_scale,
+                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
+                 int* orientation) {
+  const int n = scaling.num_unknowns();
+  assert(last_step.matrix().rows() == n + 1 &&
+         last_step.matrix().row(n) == previous_scaled.transpose());
+  const Eigen::VectorXd& scales = scaling.scales();
+  const Eigen::VectorXd unit = Eigen::VectorXd::Unit(n + 1, n);
+  Eigen::VectorXd solution, correction, residual(n + 1);
+  if (!last_step.SolveAgain(unit, &solution)) return false;
+  // Refined against the point's own bordered matrix A, whose last row is the factorised one's:
+  // s ← s + A₀⁻¹ (e − A s), converging by the factor ‖A₀⁻¹ (A − A₀)‖ (the Jacobians' change
+  // over one Newton update) a step; until the correction is at rounding level or refused.
+  for (int refinement = 0; refinement < kMaxTangentRefinements; ++refinement) {
+    residual.head(n).noalias() =
+        linearization.jacobian_y * solution.head(n).cwiseProduct(scales.head(n));
+    residual.head(n) += linearization.jacobian_lambda * (scales(n) * solution(n));
+    residual.head(n) /= -residual_scale;
+    residual(n) = 1.0 - previous_scaled.dot(solution);
+    if (!last_step.SolveAgain(residual, &correction)) return false;
+    solution += correction;
+    if (correction.norm() <= kRefinedTangent * solution.norm()) {
+      if (orientation != nullptr) *orientation = last_step.determinant_sign();
+      return TangentFromSolution(solution, previous_scaled, tangent_scaled);
+    }
+  }
+  return false;
 }
 
 int OrientationIndex(const Linearization& linearization, const Scaling& scaling,

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include "continuation/augmented_system.h"
 #include "continuation/evaluator.h"
 #include "continuation/scaling.h"
 
@@ -26,6 +27,18 @@ bool InitialTangent(const Linearization& linearization, const Scaling& scaling,
 // change of the last row: det [J; τᵀ] = det [J; bᵀ] (1 + (τ − b)ᵀ s) = det [J; bᵀ] ‖s‖, so
 // both determinants have one sign and the index costs no second factorisation.
 bool NextTangent(const Linearization& linearization, const Scaling& scaling, double residual_scale,
+                 const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
+                 int* orientation = nullptr);
+
+// The same from the factorisation of a corrector's last Newton matrix (CorrectorResult::
+// last_step), whose border is previous_scaled and whose Jacobians were taken one Newton update
+// before the point: that LU's solution refined by the point's own Jacobians in `linearization`
+// (iterative refinement) until it is theirs to ~1e-10, so no factorisation of its own. The
+// orientation is that LU's (the refinement converging fast, the two determinants share a sign).
+// False where the refinement does not converge in two steps (a kink crossed in that update):
+// the caller then factorises (the form above).
+bool NextTangent(const AugmentedSolver& last_step, const Linearization& linearization,
+                 const Scaling& scaling, double residual_scale,
                  const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
                  int* orientation = nullptr);
 

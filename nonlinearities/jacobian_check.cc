@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace nfrc {
 
@@ -14,6 +15,8 @@ JacobianCheckResult CheckJacobian(const ResidualFunction& function, const Eigen:
   Eigen::VectorXd d_omega;
   function(y, omega, &r, &jacobian, &d_omega);
   const Eigen::Index m = r.size();
+  Eigen::VectorXd r_alone;
+  function(y, omega, &r_alone, nullptr, nullptr);
 
   Eigen::MatrixXd jacobian_fd(m, n);
   Eigen::VectorXd plus, minus;
@@ -40,6 +43,9 @@ JacobianCheckResult CheckJacobian(const ResidualFunction& function, const Eigen:
   const double omega_scale = std::max(d_omega.cwiseAbs().maxCoeff(), floor);
   result.omega_error = (d_omega - d_omega_fd).cwiseAbs().maxCoeff(&row) / omega_scale;
   result.worst_omega_row = static_cast<int>(row);
+  result.residual_error = r_alone.size() == m ? (r - r_alone).cwiseAbs().maxCoeff() /
+                                                    std::max(r.cwiseAbs().maxCoeff(), floor)
+                                              : std::numeric_limits<double>::infinity();
   return result;
 }
 
@@ -57,8 +63,7 @@ JacobianCheckResult CheckNonlinearityJacobian(const Nonlinearity& law,
     if (d_omega != nullptr) d_omega->setZero(at.size());
     law.Evaluate(ctx, at, at_omega, *r, jacobian, d_omega);
   };
-  const JacobianCheckResult result =
-      CheckJacobian(function, y, omega, relative_step, typical_y);
+  const JacobianCheckResult result = CheckJacobian(function, y, omega, relative_step, typical_y);
   if (condensation != nullptr) condensation->Update(omega);
   return result;
 }

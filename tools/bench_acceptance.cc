@@ -35,6 +35,7 @@ struct Timing {
   double seconds = 0.0;
   double lu_unit = 0.0;
   int points = 0;
+  double accuracy = -1.0;  // against a tenth of the step; negative where not measured
 };
 
 // Round r of `perturb` scales the first forcing term by 1 + r·kPerturbation (two ulps a
@@ -109,12 +110,13 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
   }
   std::printf("  folds %zu (%d corners) in %d iterations; other crossings %d (%d jumps) in %d\n",
               trace.folds.size(), corners, fold_iterations, crossings, jumps, crossing_iterations);
+  Timing timing{seconds, lu_unit, static_cast<int>(trace.points.size())};
   if (accuracy) {
-    std::printf("  accuracy %.2e against a tenth of the step\n",
-                Accuracy(the_case, trace, c.plotted));
+    timing.accuracy = Accuracy(the_case, trace, c.plotted);
+    std::printf("  accuracy %.2e against a tenth of the step\n", timing.accuracy);
   }
   std::fflush(stdout);
-  return {seconds, lu_unit, static_cast<int>(trace.points.size())};
+  return timing;
 }
 
 // One friction point at N_φ = 640 (harmonics 1, 3, …, 1279: 1 280 coefficients per signal,
@@ -209,6 +211,14 @@ void PrintRuns(const std::string& name, const std::vector<Timing>& runs, double 
   if (*fewest != *most) {
     std::printf("  points %.0f / %.0f / %.0f", *fewest, Median(points), *most);
   }
+  std::vector<double> accuracies;
+  for (const Timing& t : runs) {
+    if (t.accuracy >= 0.0) accuracies.push_back(t.accuracy);
+  }
+  if (accuracies.size() > 1) {
+    const auto [best, worst] = std::minmax_element(accuracies.begin(), accuracies.end());
+    std::printf("  accuracy %.2e / %.2e / %.2e", *best, Median(accuracies), *worst);
+  }
   std::printf("\n");
 }
 
@@ -280,7 +290,8 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
               threads);
   for (int round = 0; round < runs; ++round) {
     if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
-    const bool with_accuracy = accuracy && round == 0;  // the reference traces cost more
+    // The reference traces cost more: once, or on every perturbed copy (the spread).
+    const bool with_accuracy = accuracy && (round == 0 || perturb);
     for (size_t i = 0; i < cases.size(); ++i) {
       const int perturbation = perturb ? round : 0;
       keep(InChild([&] {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -201,18 +202,17 @@ Peak FindPeak(Traced& t, int dof) {
 }
 
 // The solution at exactly `omega` on the last stretch of the branch that crosses it (after
-// the peak, on the upper branch when it overhangs), from the nearer end of that stretch.
+// the peak, on the upper branch when it overhangs), as `signals_at` resolves it
+// (SolveAtCrossing: Newton at fixed ω from the chord, else along the branch).
 Eigen::VectorXd SolveOnLastCrossing(Traced& t, double omega) {
   const auto& points = t.branch.points;
   for (size_t i = points.size() - 1; i > 0; --i) {
-    const BranchPoint& a = points[i - 1];
-    const BranchPoint& b = points[i];
-    if ((a.lambda - omega) * (b.lambda - omega) > 0.0) continue;
-    const BranchPoint& near = std::abs(a.lambda - omega) < std::abs(b.lambda - omega) ? a : b;
-    const FixedLambdaSolution solved =
-        SolveAtFixedLambda(*t.system, near.y, omega, near.y, t.the_case.continuation);
-    REQUIRE(solved.converged);
-    return solved.y;
+    const std::optional<FixedLambdaSolution> solved =
+        SolveAtCrossing(*t.system, &points[i - 1], points[i], omega, t.the_case.continuation);
+    if (!solved) continue;
+    INFO(solved->message);
+    REQUIRE(solved->converged);
+    return solved->y;
   }
   FAIL("the branch does not cross omega = " << omega);
   return {};

@@ -68,6 +68,7 @@ TEST_CASE("harmonic system: the assembled R_y and R_omega match finite differenc
     CAPTURE(check.worst_row);
     CAPTURE(check.worst_col);
     CHECK(check.y_error < kJacobianTolerance);
+    CHECK(check.residual_error <= kSameResidual);
     CHECK(check.omega_error < kJacobianTolerance);
   }
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "analysis/bifurcation.h"
+#include "analysis/solution_report.h"
 #include "analysis/trace.h"
 #include "core/errors.h"
 #include "tools/case_file.h"
@@ -39,6 +40,18 @@ void CheckSameFloquet(const FloquetResult& a, const FloquetResult& b) {
   CHECK(a.multipliers == b.multipliers);
 }
 
+void CheckSameMeasures(const SolutionMeasures& a, const SolutionMeasures& b) {
+  CHECK(a.response.max_abs == b.response.max_abs);
+  CHECK(a.response.min == b.response.min);
+  CHECK(a.response.max == b.response.max);
+  CHECK(a.response.h1 == b.response.h1);
+  CHECK(a.response.amplitudes == b.response.amplitudes);
+  CHECK(a.response.energy == b.response.energy);
+  CHECK(a.laws == b.laws);
+  CHECK(a.min_gap == b.min_gap);
+  CHECK(a.min_force == b.min_force);
+}
+
 void CheckSameTrace(const TraceResult& in_turn, const TraceResult& beside) {
   REQUIRE(beside.points.size() == in_turn.points.size());
   for (size_t i = 0; i < in_turn.points.size(); ++i) {
@@ -47,6 +60,7 @@ void CheckSameTrace(const TraceResult& in_turn, const TraceResult& beside) {
     CHECK(beside.points[i].point.lambda == in_turn.points[i].point.lambda);
     CHECK(beside.points[i].point.y == in_turn.points[i].point.y);
     CheckSameFloquet(in_turn.points[i].floquet, beside.points[i].floquet);
+    CheckSameMeasures(in_turn.points[i].measures, beside.points[i].measures);
   }
   REQUIRE(beside.folds.size() == in_turn.folds.size());
   REQUIRE(beside.bifurcations.size() == in_turn.bifurcations.size());
@@ -86,17 +100,20 @@ TEST_CASE("stability pipeline: any number of threads gives the analyses in turn,
 TEST_CASE("stability pipeline: each point's multipliers are its chain's, analysed in turn") {
   // The reference is StabilityMonitor alone on a system of its own: each chain of
   // kChainPoints points from a cold start, Arnoldi warm-started from point to point; each
-  // change of stability localised by Between from the two points' results.
+  // change of stability localised by Between from the two points' results; each point's
+  // measures by a SolutionReporter on that system.
   const Case the_case = LoadSourceCase("contact/nlvib.json#penalty");
   const TraceResult trace = TraceWith(the_case, 2);
   REQUIRE(trace.points.size() > 3 * StabilityPipeline::kChainPoints);
   auto system = BuildSystem(the_case);
   StabilityMonitor monitor(*system, the_case.stability, the_case.continuation);
+  SolutionReporter reporter(*system, the_case.output_dofs, the_case.output_names);
   Eigen::VectorXd warm_start;
   for (const TracePoint& p : trace.points) {
     CAPTURE(p.index);
     if (p.index % StabilityPipeline::kChainPoints == 0) warm_start.resize(0);
     CheckSameFloquet(monitor.Analyze(p.point.y, p.point.lambda, &warm_start), p.floquet);
+    CheckSameMeasures(reporter.Measure(p.point.y, p.point.lambda), p.measures);
   }
   REQUIRE(!trace.bifurcations.empty());
   for (const Bifurcation& b : trace.bifurcations) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <vector>
 
 namespace nfrc {
 namespace {
@@ -85,6 +86,59 @@ TEST_CASE("block elimination: coupled blocks are a broken promise, singular ones
   singular.row(2).setZero();  // block {2, 6}'s first row: the block is singular
   singular.row(2)(6) = 0.0;
   CHECK_FALSE(SolveEliminating(singular, b, blocks, &x));
+}
+
+// The same systems with their unknowns reordered (rows and columns alike): the blocks' rows
+// and the rest then form no runs, or the rest comes first, and the elimination reads them
+// through its index lists instead of as runs.
+TEST_CASE("block elimination: any order of the unknowns") {
+  for (const bool shuffled : {true, false}) {
+    INFO((shuffled ? "shuffled" : "the rest first"));
+    EliminationBlocks blocks;
+    const Eigen::MatrixXd a = BlockMatrix(20, 30, 11u, &blocks);
+    const int n = static_cast<int>(a.rows());
+    // new_of[i]: where unknown i goes.
+    std::vector<int> new_of(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      new_of[static_cast<size_t>(i)] = shuffled ? (37 * i + 5) % n : (i + n - 40) % n;
+    }
+    Eigen::MatrixXd permuted(n, n);
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        permuted(new_of[static_cast<size_t>(i)], new_of[static_cast<size_t>(j)]) = a(i, j);
+      }
+    }
+    EliminationBlocks permuted_blocks = blocks;
+    for (std::vector<int>& block : permuted_blocks) {
+      for (int& i : block) i = new_of[static_cast<size_t>(i)];
+    }
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(n);
+    Eigen::VectorXd permuted_b(n);
+    for (int i = 0; i < n; ++i) permuted_b(new_of[static_cast<size_t>(i)]) = b(i);
+    Eigen::VectorXd x;
+    REQUIRE(SolveEliminating(permuted, permuted_b, permuted_blocks, &x));
+    const Eigen::VectorXd reference = a.fullPivLu().solve(b);
+    Eigen::VectorXd back(n);
+    for (int i = 0; i < n; ++i) back(i) = x(new_of[static_cast<size_t>(i)]);
+    CHECK((back - reference).norm() <= kSameSolution * reference.norm());
+    Eigen::MatrixXd coupled = permuted;
+    coupled(new_of[37], new_of[0]) = 0.5;  // unknowns 37 and 0 are in blocks 17 and 0
+    CHECK_THROWS_AS(SolveEliminating(coupled, permuted_b, permuted_blocks, &x), std::logic_error);
+  }
+}
+
+// A coupling between blocks deep in a block's column (past the first chunks the scan tests at
+// once), and one that is NaN, are both found.
+TEST_CASE("block elimination: couplings anywhere in a long run of blocks' rows") {
+  EliminationBlocks blocks;
+  const Eigen::MatrixXd a = BlockMatrix(20, 30, 5u, &blocks);
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
+  Eigen::VectorXd x;
+  for (const double value : {1e-300, std::nan("")}) {
+    Eigen::MatrixXd coupled = a;
+    coupled(37, 3) = value;  // unknowns 37 and 3 are in blocks 17 and 3
+    CHECK_THROWS_AS(SolveEliminating(coupled, b, blocks, &x), std::logic_error);
+  }
 }
 
 TEST_CASE("block elimination: bad blocks are rejected") {

@@ -280,6 +280,35 @@ TEST_CASE("corrector: the line search rescues Newton where the full step diverge
   CHECK(std::abs(converged.u(0)) < settings.update_tolerance);
 }
 
+// Counts the calls with and without the Jacobian.
+class CountingArctanProblem : public ArctanProblem {
+ public:
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    ++(jacobian_y != nullptr ? with_jacobian : residual_only);
+    return ArctanProblem::Evaluate(y, lambda, residual, jacobian_y, jacobian_lambda);
+  }
+  int with_jacobian = 0;
+  int residual_only = 0;
+};
+
+// A halved step is judged by its residual alone: the Jacobian is evaluated at the start, at
+// each full step and at each halved step taken, never at a refused halving.
+TEST_CASE("corrector: refused halvings of a step cost no Jacobian") {
+  CountingArctanProblem problem;
+  Evaluator evaluator(problem);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = 50;
+  const CorrectorResult result =
+      CorrectAtFixedLambda(evaluator, UnitScaling(1), settings, Eigen::Vector2d(3.0, 0.0));
+  REQUIRE(result.converged);
+  CHECK(std::abs(result.u(0)) < settings.update_tolerance);
+  CHECK(problem.residual_only > 0);
+  CHECK(problem.with_jacobian <= 1 + 2 * result.iterations);
+  CHECK(problem.with_jacobian + problem.residual_only == evaluator.num_evaluations());
+}
+
 // Piecewise-linear R(y) with its root at y = 1.5: slope 1 for y ≤ 0, −8/3 on (0, 0.75), 4
 // from 0.75. At y = 0 the generalised derivative is the left branch's 1, so the Newton step
 // +1 climbs the middle branch: no fraction of it decreases |R| (it is ≥ 1 on [0, 1]), yet the

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "continuation/augmented_system.h"
 #include "test_problems.h"
 
 namespace nfrc {
@@ -131,32 +132,49 @@ TEST_CASE("tangent: across a corner the orientation index keeps the direction of
         OrientationIndex(right, scaling, 1.0, -next));  // λ goes on: −next
 }
 
+// Random bordered systems of kBlockedSize unknowns y (and λ): with blocks, unknowns {0, 1},
+// {2, 3}, {4, 5} couple only with themselves and the rest 6..8, as harmonics of a condensed
+// linear part do, and are declared the elimination's blocks.
+constexpr int kBlockedSize = 9;
+
+Scaling BlockedScaling() {
+  Scaling scaling({0, 0, 0, 0, 0, 0, 1, 1, 1}, 2.0, 1e-6);
+  scaling.Include(Eigen::VectorXd::LinSpaced(kBlockedSize, 0.5, 3.0));
+  return scaling;
+}
+
+void DecoupleBlocks(Eigen::MatrixXd* matrix) {
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      if (a != b) matrix->block(2 * a, 2 * b, 2, 2).setZero();
+    }
+  }
+}
+
+Linearization RandomLinearization(bool blocks) {
+  Linearization at;
+  at.residual = Eigen::VectorXd::Zero(kBlockedSize);
+  at.jacobian_y = Eigen::MatrixXd::Random(kBlockedSize, kBlockedSize);
+  at.jacobian_lambda = Eigen::VectorXd::Random(kBlockedSize);
+  if (blocks) {
+    DecoupleBlocks(&at.jacobian_y);
+    at.elimination =
+        std::make_shared<const EliminationBlocks>(EliminationBlocks{{0, 1}, {2, 3}, {4, 5}});
+  }
+  return at;
+}
+
 // The index that InitialTangent and NextTangent take from their own factorisation (border
 // eₙ or τ_prev, by the determinant lemma) against OrientationIndex's separate LU of
 // [J; τᵀ], on random matrices with and without elimination blocks and with borders of either
 // sign: two routes to one determinant sign.
 TEST_CASE("tangent: the orientation from the tangent's own factorisation is OrientationIndex") {
-  constexpr int kSize = 9;  // unknowns y; blocks {0, 1}, {2, 3}, {4, 5} and the rest 6..8, λ
   std::srand(7);
-  Scaling scaling({0, 0, 0, 0, 0, 0, 1, 1, 1}, 2.0, 1e-6);
-  scaling.Include(Eigen::VectorXd::LinSpaced(kSize, 0.5, 3.0));
+  const Scaling scaling = BlockedScaling();
   int checked = 0;
   for (int trial = 0; trial < 40; ++trial) {
     CAPTURE(trial);
-    const bool blocks = trial % 2 == 1;
-    Linearization at;
-    at.residual = Eigen::VectorXd::Zero(kSize);
-    at.jacobian_y = Eigen::MatrixXd::Random(kSize, kSize);
-    at.jacobian_lambda = Eigen::VectorXd::Random(kSize);
-    if (blocks) {
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) {
-          if (a != b) at.jacobian_y.block(2 * a, 2 * b, 2, 2).setZero();
-        }
-      }
-      at.elimination =
-          std::make_shared<const EliminationBlocks>(EliminationBlocks{{0, 1}, {2, 3}, {4, 5}});
-    }
+    const Linearization at = RandomLinearization(trial % 2 == 1);
     for (double direction : {1.0, -1.0}) {
       Eigen::VectorXd tangent;
       int orientation = 0;
@@ -164,7 +182,7 @@ TEST_CASE("tangent: the orientation from the tangent's own factorisation is Orie
       CHECK(orientation != 0);
       CHECK(orientation == OrientationIndex(at, scaling, 1.5, tangent));
     }
-    const Eigen::VectorXd previous = Eigen::VectorXd::Random(kSize + 1).normalized();
+    const Eigen::VectorXd previous = Eigen::VectorXd::Random(kBlockedSize + 1).normalized();
     Eigen::VectorXd tangent;
     int orientation = 0;
     // NextTangent refuses a tangent against the border (τᵀτ_prev ≤ 0 after a fallback only).
@@ -175,6 +193,52 @@ TEST_CASE("tangent: the orientation from the tangent's own factorisation is Orie
     ++checked;
   }
   CHECK(checked >= 30);
+}
+
+// The corrector keeps the factorisation of its last Newton matrix, whose Jacobians are one
+// update away from the point's: the tangent refined from it is the point's own (fresh LU) to
+// the refinement's 1e-10, with its orientation; across a kink (an O(1) change of the Jacobian
+// in that update) the refinement does not converge and says so.
+TEST_CASE("tangent: refined from a factorisation one Newton update away") {
+  constexpr double kUpdate = 1e-8;       // the Jacobians' change over the last update
+  constexpr double kSameTangent = 1e-9;  // the refinement's 1e-10, amplified by κ(A) ~ 10
+  std::srand(11);
+  const Scaling scaling = BlockedScaling();
+  const Eigen::VectorXd unit = Eigen::VectorXd::Unit(kBlockedSize + 1, kBlockedSize);
+  int refined = 0, refused = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    CAPTURE(trial);
+    const bool blocks = trial % 2 == 1;
+    const Linearization at = RandomLinearization(blocks);
+    Eigen::MatrixXd change = Eigen::MatrixXd::Random(kBlockedSize, kBlockedSize);
+    if (blocks) DecoupleBlocks(&change);
+    const Eigen::VectorXd previous = Eigen::VectorXd::Random(kBlockedSize + 1).normalized();
+    Eigen::VectorXd fresh;
+    int fresh_orientation = 0;
+    if (!NextTangent(at, scaling, 1.5, previous, &fresh, &fresh_orientation)) continue;
+    const bool kink = trial % 4 >= 2;
+    Linearization before = at;
+    before.jacobian_y += (kink ? 1.0 : kUpdate) * change;
+    before.jacobian_lambda += kUpdate * Eigen::VectorXd::Random(kBlockedSize);
+    AugmentedSolver last_step;
+    AugmentedMatrix(before, scaling, 1.5, previous, &last_step.matrix());
+    Eigen::VectorXd unused;
+    REQUIRE(last_step.Solve(unit, &unused, before.elimination.get()));
+    Eigen::VectorXd tangent;
+    int orientation = 0;
+    const bool found = NextTangent(last_step, at, scaling, 1.5, previous, &tangent, &orientation);
+    if (kink) {
+      CHECK_FALSE(found);
+      ++refused;
+      continue;
+    }
+    REQUIRE(found);
+    CHECK((tangent - fresh).norm() <= kSameTangent);
+    CHECK(orientation == fresh_orientation);
+    ++refined;
+  }
+  CHECK(refined >= 15);
+  CHECK(refused >= 15);
 }
 
 }  // namespace

@@ -113,6 +113,7 @@ TEST_CASE("contact friction: Jacobian and omega-derivative match finite differen
         const JacobianCheckResult result =
             CheckNonlinearityJacobian(s.law, s.ctx, nullptr, y, omega, kFdStep, 1.0);
         CHECK(result.y_error < kFdTolerance);
+        CHECK(result.residual_error <= kSameResidual);
         CHECK(result.omega_error < kFdTolerance);
       }
     }

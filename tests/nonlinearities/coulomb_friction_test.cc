@@ -101,6 +101,7 @@ TEST_CASE("every friction law: Jacobian and ω-derivative match finite differenc
       const JacobianCheckResult result =
           CheckNonlinearityJacobian(law, setup.ctx, nullptr, y, omega, kFdStep, 1.0);
       CHECK(result.y_error < kFdTolerance);
+      CHECK(result.residual_error <= kSameResidual);
       CHECK(result.omega_error < kFdTolerance);
     }
   });

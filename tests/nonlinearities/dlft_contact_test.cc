@@ -110,6 +110,7 @@ TEST_CASE("DLFT contact: Jacobian and ω-derivative match finite differences") {
       const JacobianCheckResult r =
           CheckNonlinearityJacobian(law, s.ctx, &s.condensation, y, omega, kFdStep, 1e-5);
       CHECK(r.y_error < kFdTolerance);
+      CHECK(r.residual_error <= kSameResidual);
       CHECK(r.omega_error < kFdTolerance);
     }
   }

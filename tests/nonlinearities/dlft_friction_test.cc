@@ -74,6 +74,7 @@ TEST_CASE("dlft friction: Jacobian and omega-derivative match finite differences
       const JacobianCheckResult result =
           CheckNonlinearityJacobian(law, s.ctx, &s.condensation, y, omega, kFdStep, 1e-4);
       CHECK(result.y_error < kFdTolerance);
+      CHECK(result.residual_error <= kSameResidual);
       CHECK(result.omega_error < kFdTolerance);
       with_slip += ReturnMapping(z, epsilon, limit).Slips();
       ++checked;

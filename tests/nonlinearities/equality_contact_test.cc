@@ -65,6 +65,7 @@ TEST_CASE("equality contact: Jacobian and omega-derivative match finite differen
         const JacobianCheckResult result =
             CheckNonlinearityJacobian(law, s.ctx, nullptr, y, 0.9, kFdStep, 1.0);
         CHECK(result.y_error < kFdTolerance);
+        CHECK(result.residual_error <= kSameResidual);
         CHECK(result.omega_error < kFdTolerance);
         ++checked;
       }

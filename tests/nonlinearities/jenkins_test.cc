@@ -80,6 +80,7 @@ TEST_CASE("jenkins: Jacobian and omega-derivative match finite differences") {
         const JacobianCheckResult result =
             CheckNonlinearityJacobian(law, s.ctx, nullptr, y, 0.7, kFdStep, 1.0);
         CHECK(result.y_error < kFdTolerance);
+        CHECK(result.residual_error <= kSameResidual);
         CHECK(result.omega_error < kFdTolerance);
         ++checked;
       }

@@ -15,8 +15,6 @@
 namespace nfrc {
 namespace {
 
-
-
 // Away from ties of the min the law is linear in y on each sample, so central differences
 // are exact up to round-off: 1e-7 relative step, 1e-6 tolerance.
 constexpr double kFdStep = 1e-7;
@@ -103,6 +101,7 @@ TEST_CASE("LCP contact: semismooth Jacobian and ω-derivative match finite diffe
       const JacobianCheckResult r =
           CheckNonlinearityJacobian(law, s.ctx, &s.condensation, y, omega, kFdStep, 1e-5);
       CHECK(r.y_error < kFdTolerance);
+      CHECK(r.residual_error <= kSameResidual);
       CHECK(r.omega_error < kFdTolerance);
     }
   }

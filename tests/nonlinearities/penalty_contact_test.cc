@@ -16,7 +16,6 @@
 namespace nfrc {
 namespace {
 
-
 using testing::TwoDofModel;
 
 constexpr double kPi = std::numbers::pi;
@@ -147,6 +146,7 @@ TEST_CASE("penalty contact: Jacobian matches finite differences, in contact and 
       const JacobianCheckResult r =
           CheckNonlinearityJacobian(law, ctx, nullptr, y, 1.3, kFdStep, 1.0);
       CHECK(r.y_error < kFdTolerance);
+      CHECK(r.residual_error <= kSameResidual);
       // A displacement law: no ω dependence, analytically or by differences.
       CHECK(r.omega_error == 0.0);
     }

@@ -53,11 +53,13 @@ TEST_CASE("polynomial spring Jacobians match finite differences, grounded and be
     auto result =
         CheckNonlinearityJacobian(grounded, Context(fourier, {1}), nullptr, y, 0.9, kFdStep, 1.0);
     CHECK(result.y_error < kFdTolerance);
+    CHECK(result.residual_error <= kSameResidual);
 
     PolynomialSpring between("cubic_spring", 0, 1, {{3, 2.0}});
     result =
         CheckNonlinearityJacobian(between, Context(fourier, {0, 1}), nullptr, y, 0.9, kFdStep, 1.0);
     CHECK(result.y_error < kFdTolerance);
+    CHECK(result.residual_error <= kSameResidual);
     // A displacement law: the ω column is exactly zero, analytically and by differences.
     CHECK(result.omega_error == 0.0);
   }
