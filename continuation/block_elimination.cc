@@ -89,6 +89,7 @@ std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& 
   }
   const std::vector<int>& rest = result.rest_;
   const int num_rest = static_cast<int>(rest.size());
+  result.rest_run_ = num_rest > 0 && rest.back() - rest.front() + 1 == num_rest;
   result.blocks_.resize(blocks.size());
   // Each block's coupled rest columns, found down the columns (the storage's order; along
   // the blocks' rows it was a strided read per entry), in increasing order.
@@ -170,11 +171,7 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
                               const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
                               Eigen::VectorXd* schur_rhs) const {
   const int num_rest = static_cast<int>(rest_.size());
-  // The rest is one run of unknowns where the blocks come first or last (the harmonic
-  // problems' displacements, then the laws' unknowns and λ): copied as blocks, not entry by
-  // entry through the index list.
-  const bool run = num_rest > 0 && rest_.back() - rest_.front() + 1 == num_rest;
-  if (run) {
+  if (rest_run_) {
     *schur = a.block(rest_.front(), rest_.front(), num_rest, num_rest);
   } else {
     *schur = a(rest_, rest_);
@@ -188,12 +185,7 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
     const int nb = static_cast<int>(block.unknowns.size());
     const int nc = static_cast<int>(block.coupled.size());
     for (int i = 0; i < nb; ++i) {
-      const int unknown = block.unknowns[static_cast<size_t>(i)];
-      if (run) {
-        left = a.col(unknown).segment(rest_.front(), num_rest);
-      } else {
-        left = a(rest_, unknown);
-      }
+      RestColumn(a, block.unknowns[static_cast<size_t>(i)], &left);
       for (int c = 0; c < nc; ++c) schur->col(block.coupled[c]) -= block.eliminated(i, c) * left;
       *schur_rhs -= block_solutions(offset + i) * left;
     }
@@ -203,21 +195,25 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
 
 Eigen::VectorXd BlockElimination::ReduceRhs(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
                                             const Eigen::VectorXd& block_solutions) const {
-  const int num_rest = static_cast<int>(rest_.size());
-  const bool run = num_rest > 0 && rest_.back() - rest_.front() + 1 == num_rest;  // as Reduce
   Eigen::VectorXd rhs = b(rest_);
+  Eigen::VectorXd left(static_cast<Eigen::Index>(rest_.size()));
   Eigen::Index offset = 0;
   for (const Block& block : blocks_) {
     for (const int unknown : block.unknowns) {
-      const double solution = block_solutions(offset++);
-      if (run) {
-        rhs -= solution * a.col(unknown).segment(rest_.front(), num_rest);
-      } else {
-        rhs -= solution * a(rest_, unknown);
-      }
+      RestColumn(a, unknown, &left);
+      rhs -= block_solutions(offset++) * left;
     }
   }
   return rhs;
+}
+
+void BlockElimination::RestColumn(const Eigen::MatrixXd& a, int unknown,
+                                  Eigen::VectorXd* column) const {
+  if (rest_run_) {
+    *column = a.col(unknown).segment(rest_.front(), static_cast<Eigen::Index>(rest_.size()));
+  } else {
+    *column = a(rest_, unknown);
+  }
 }
 
 void BlockElimination::BackSubstitute(const Eigen::VectorXd& block_solutions,

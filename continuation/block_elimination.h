@@ -77,8 +77,15 @@ class BlockElimination {
     Eigen::MatrixXd coupling;                 // A_B,coupled
     Eigen::MatrixXd eliminated;               // A_BB⁻¹ A_B,coupled
   };
+  // Column `unknown` of a in the rest's rows, into `column` (sized by the caller).
+  void RestColumn(const Eigen::MatrixXd& a, int unknown, Eigen::VectorXd* column) const;
+
   int size_ = 0;
   std::vector<int> rest_;
+  // The rest is one run of unknowns (the harmonic problems': the displacements' blocks first,
+  // then the laws' unknowns and λ): its rows and columns are read as blocks, not entry by
+  // entry through the index list.
+  bool rest_run_ = false;
   std::vector<Block> blocks_;
   int sign_ = 1;
 };
