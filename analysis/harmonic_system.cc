@@ -122,8 +122,11 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     residual->setZero(num_unknowns_);
     residual->head(nx) = z_ * x - f_;
     if (jacobian_y != nullptr) {
-      jacobian_y->setZero(num_unknowns_, num_unknowns_);
+      const int own = num_unknowns_ - nx;  // the laws' own unknowns, after the displacements
+      jacobian_y->resize(num_unknowns_, num_unknowns_);
       jacobian_y->topLeftCorner(nx, nx) = z_;
+      jacobian_y->bottomLeftCorner(own, nx).setZero();
+      jacobian_y->rightCols(own).setZero();
     }
     if (jacobian_omega != nullptr) {
       jacobian_omega->setZero(num_unknowns_);

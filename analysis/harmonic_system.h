@@ -29,6 +29,8 @@ class HarmonicSystem : public ContinuationProblem {
                 Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) override;
   // Group 0: displacement coefficients (and own unknowns in metres); group i + 1: own
   // unknowns of law i.
+  // Evaluate returns false, with last_error(), wherever an output is not finite.
+  bool ChecksFiniteness() const override { return true; }
   std::vector<int> ScaleGroups() const override;
   // Displacement coefficients weigh 1, the laws' own unknowns own_step_weight(): the curve a
   // user reads is the motion's, while a law's own unknowns (a friction force's harmonics)

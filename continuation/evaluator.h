@@ -18,7 +18,8 @@ struct Linearization {
 };
 
 // Calls ContinuationProblem::Evaluate on stacked points u = (y, λ), counts the calls and
-// turns wrong sizes and non-finite output into a failed evaluation.
+// turns wrong sizes and non-finite output into a failed evaluation (the latter left to the
+// problem where it says it checks: ContinuationProblem::ChecksFiniteness).
 class Evaluator {
  public:
   explicit Evaluator(ContinuationProblem& problem);
@@ -36,6 +37,7 @@ class Evaluator {
  private:
   ContinuationProblem& problem_;
   int n_;
+  bool checks_finiteness_;  // the problem's ChecksFiniteness()
   std::shared_ptr<const EliminationBlocks> elimination_;
   int num_evaluations_ = 0;
 };

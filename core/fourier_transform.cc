@@ -60,6 +60,10 @@ struct FourierTransform::FftState {
 
   int n_t;
   std::vector<std::complex<double>> spectrum;
+  // WeightedProduct's tables of C_m and S_m, kept between calls.
+  std::vector<double> cos_sums, sin_sums;
+  // Each harmonic's rows of a and b (HarmonicSet::CosIndex, SinIndex) for WeightedProduct.
+  std::vector<int> cos_index, sin_index;
   fftw_plan forward = nullptr;
   fftw_plan inverse = nullptr;
 };
@@ -82,6 +86,8 @@ FourierTransform::FourierTransform(const HarmonicSet& set)
   const int n_c = set_.NumCoefficients();
   derivative_matrix_.setZero(n_c, n_c);
   for (int p = 0; p < set_.num_harmonics(); ++p) {
+    fft_->cos_index.push_back(set_.CosIndex(p));
+    fft_->sin_index.push_back(set_.SinIndex(p));
     const int k = set_.harmonics()[p];
     if (k == 0) continue;
     derivative_matrix_(set_.CosIndex(p), set_.SinIndex(p)) = k;
@@ -231,63 +237,85 @@ Eigen::MatrixXd FourierTransform::TimesDerivative(
   return product;
 }
 
+void FourierTransform::AddTimesDerivative(const Eigen::Ref<const Eigen::MatrixXd>& m, double scale,
+                                          Eigen::Ref<Eigen::MatrixXd> target) const {
+  CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
+  CheckShape("target", target.rows(), target.cols(), m.rows(), m.cols());
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const int k = set_.harmonics()[p];
+    if (k == 0) continue;  // m·D's column of the constant is zero
+    const int ic = set_.CosIndex(p);
+    const int is = set_.SinIndex(p);
+    // scale·(−k·m) as scale·TimesDerivative(m) would round it, entry for entry.
+    target.col(ic) += scale * (-k * m.col(is));
+    target.col(is) += scale * (k * m.col(ic));
+  }
+}
+
 Eigen::MatrixXd FourierTransform::WeightedProduct(
     const Eigen::Ref<const Eigen::VectorXd>& weights) const {
+  Eigen::MatrixXd product;
+  WeightedProduct(weights, &product);
+  return product;
+}
+
+void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                       Eigen::MatrixXd* product) const {
   const int n_t = set_.num_samples();
   CheckShape("weights", weights.rows(), weights.cols(), n_t, 1);
   auto& spectrum = fft_->spectrum;
   fft_->Forward(weights.data());
   // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
-  // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry).
-  // Tabulated once for 0 ≤ m ≤ 2H: cos_sum(−m) = cos_sum(m), sin_sum(−m) = −sin_sum(m).
+  // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry), tabulated
+  // for −2H ≤ m ≤ 2H at m + 2H: C_−m = C_m, S_−m = −S_m.
   const int top = 2 * set_.max_harmonic();
-  std::vector<double> cos_table(static_cast<size_t>(top) + 1), sin_table(cos_table.size());
-  for (int m = 0; m <= top; ++m) {
+  std::vector<double>& cos_sums = fft_->cos_sums;
+  std::vector<double>& sin_sums = fft_->sin_sums;
+  cos_sums.resize(2 * static_cast<size_t>(top) + 1);
+  sin_sums.resize(cos_sums.size());
+  for (int m = top; m >= 0; --m) {  // downwards: m = 0 is written last, as +S_0
     const int r = m % n_t;
-    cos_table[static_cast<size_t>(m)] =
-        (r <= n_t / 2 ? spectrum[r].real() : spectrum[n_t - r].real()) / n_t;
-    sin_table[static_cast<size_t>(m)] =
-        (r <= n_t / 2 ? -spectrum[r].imag() : spectrum[n_t - r].imag()) / n_t;
+    const double c = (r <= n_t / 2 ? spectrum[r].real() : spectrum[n_t - r].real()) / n_t;
+    const double s = (r <= n_t / 2 ? -spectrum[r].imag() : spectrum[n_t - r].imag()) / n_t;
+    cos_sums[static_cast<size_t>(top - m)] = c;
+    cos_sums[static_cast<size_t>(top + m)] = c;
+    sin_sums[static_cast<size_t>(top - m)] = -s;
+    sin_sums[static_cast<size_t>(top + m)] = s;
   }
-  auto cos_sum = [&](int m) { return cos_table[static_cast<size_t>(std::abs(m))]; };
-  auto sin_sum = [&](int m) {
-    return m >= 0 ? sin_table[static_cast<size_t>(m)] : -sin_table[static_cast<size_t>(-m)];
-  };
+  const double* cos_sum = cos_sums.data() + top;  // cos_sum[m] = C_m, −2H ≤ m ≤ 2H
+  const double* sin_sum = sin_sums.data() + top;
   const int n_c = set_.NumCoefficients();
   const int n_h = set_.num_harmonics();
-  std::vector<int> cos_index(static_cast<size_t>(n_h)), sin_index(cos_index.size());
-  for (int p = 0; p < n_h; ++p) {
-    cos_index[static_cast<size_t>(p)] = set_.CosIndex(p);
-    sin_index[static_cast<size_t>(p)] = set_.SinIndex(p);
-  }
-  Eigen::MatrixXd product(n_c, n_c);
-  // Column by column (q outer): the column-major storage is written in order.
+  const std::vector<int>& harmonics = set_.harmonics();
+  const std::vector<int>& cos_index = fft_->cos_index;
+  const std::vector<int>& sin_index = fft_->sin_index;
+  product->resize(n_c, n_c);
+  // Column pair by column pair (q outer): the column-major storage is written in order.
   for (int q = 0; q < n_h; ++q) {
-    const int k = set_.harmonics()[q];
-    const int cc = cos_index[static_cast<size_t>(q)];
-    const int cs = sin_index[static_cast<size_t>(q)];
+    const int k = harmonics[static_cast<size_t>(q)];
+    double* const cos_column = product->col(cos_index[static_cast<size_t>(q)]).data();
+    double* const sin_column = product->col(sin_index[static_cast<size_t>(q)]).data();
     for (int p = 0; p < n_h; ++p) {
-      const int j = set_.harmonics()[p];
+      const int j = harmonics[static_cast<size_t>(p)];
       const int rc = cos_index[static_cast<size_t>(p)];
       const int rs = sin_index[static_cast<size_t>(p)];
       if (j == 0 && k == 0) {
-        product(rc, cc) = cos_sum(0);
+        cos_column[rc] = cos_sum[0];
       } else if (j == 0) {
-        product(rc, cc) = cos_sum(k);
-        product(rc, cs) = sin_sum(k);
+        cos_column[rc] = cos_sum[k];
+        sin_column[rc] = sin_sum[k];
       } else if (k == 0) {
-        product(rc, cc) = 2.0 * cos_sum(j);
-        product(rs, cc) = 2.0 * sin_sum(j);
+        cos_column[rc] = 2.0 * cos_sum[j];
+        cos_column[rs] = 2.0 * sin_sum[j];
       } else {
         // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise.
-        product(rc, cc) = cos_sum(j - k) + cos_sum(j + k);
-        product(rc, cs) = sin_sum(k + j) + sin_sum(k - j);
-        product(rs, cc) = sin_sum(j + k) + sin_sum(j - k);
-        product(rs, cs) = cos_sum(j - k) - cos_sum(j + k);
+        cos_column[rc] = cos_sum[j - k] + cos_sum[j + k];
+        sin_column[rc] = sin_sum[k + j] + sin_sum[k - j];
+        cos_column[rs] = sin_sum[j + k] + sin_sum[j - k];
+        sin_column[rs] = cos_sum[j - k] - cos_sum[j + k];
       }
     }
   }
-  return product;
 }
 
 }  // namespace nfrc

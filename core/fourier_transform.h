@@ -39,6 +39,10 @@ class FourierTransform {
   const Eigen::MatrixXd& DerivativeMatrix() const { return derivative_matrix_; }
   // m·D by column operations, O(rows · n_c) where the dense product costs O(rows · n_c²).
   Eigen::MatrixXd TimesDerivative(const Eigen::Ref<const Eigen::MatrixXd>& m) const;
+  // target += scale·(m·D), rounded entry for entry as scale·TimesDerivative(m) added would be,
+  // without the two temporaries (a law's Jacobian block is assembled in place).
+  void AddTimesDerivative(const Eigen::Ref<const Eigen::MatrixXd>& m, double scale,
+                          Eigen::Ref<Eigen::MatrixXd> target) const;
 
   // Dense equivalents for assembling Jacobians: samples = E·c (N_t × n_c) and
   // c = P·samples (n_c × N_t), with P·E = I. A nonlinearity f(x) sampled in time has
@@ -51,6 +55,9 @@ class FourierTransform {
   // with pointwise derivative `weights`. Assembled from the discrete Fourier coefficients of
   // the weights by product-to-sum identities, O(N_t log N_t + n_c²) instead of O(N_t n_c²).
   Eigen::MatrixXd WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights) const;
+  // The same into `product`, whose storage is kept when it already has the size.
+  void WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
+                       Eigen::MatrixXd* product) const;
 
  private:
   struct FftState;

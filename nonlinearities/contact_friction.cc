@@ -150,25 +150,26 @@ void ContactFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
   residual.segment(row_friction, nc) += fourier.ToCoefficients(psi);
 
   if (jacobian != nullptr) {
-    const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(nc, nc);
     const int row_dof = ctx.DofOffset(0);
     const int row_other = parameters_.geometry.other >= 0 ? ctx.DofOffset(1) : -1;
-    jacobian->block(row_dof, row_normal, nc, nc) += n * identity;
-    if (row_other >= 0) jacobian->block(row_other, row_normal, nc, nc) -= n * identity;
-    jacobian->block(row_tangent, row_friction, nc, nc) -= identity;
+    jacobian->block(row_dof, row_normal, nc, nc).diagonal().array() += n;
+    if (row_other >= 0) jacobian->block(row_other, row_normal, nc, nc).diagonal().array() -= n;
+    jacobian->block(row_tangent, row_friction, nc, nc).diagonal().array() -= 1.0;
     if (row_tangent_other >= 0)
-      jacobian->block(row_tangent_other, row_friction, nc, nc) += identity;
+      jacobian->block(row_tangent_other, row_friction, nc, nc).diagonal().array() += 1.0;
     // Signorini rows: g = g0 − n(x_dof − x_other).
     const Eigen::MatrixXd d_gap = rho * fourier.WeightedProduct(on_gap);
     jacobian->block(row_normal, row_dof, nc, nc) -= n * d_gap;
     if (row_other >= 0) jacobian->block(row_normal, row_other, nc, nc) += n * d_gap;
     jacobian->block(row_normal, row_normal, nc, nc) += fourier.WeightedProduct(on_force);
     // Coulomb rows: v = ωD(x_t − x_t_other), and the limit through λ.
-    const Eigen::MatrixXd d_velocity =
-        omega * fourier.TimesDerivative(fourier.WeightedProduct(psi_v));
-    jacobian->block(row_friction, row_tangent, nc, nc) += d_velocity;
-    if (row_tangent_other >= 0)
-      jacobian->block(row_friction, row_tangent_other, nc, nc) -= d_velocity;
+    Eigen::MatrixXd product;
+    fourier.WeightedProduct(psi_v, &product);
+    fourier.AddTimesDerivative(product, omega, jacobian->block(row_friction, row_tangent, nc, nc));
+    if (row_tangent_other >= 0) {
+      fourier.AddTimesDerivative(product, -omega,
+                                 jacobian->block(row_friction, row_tangent_other, nc, nc));
+    }
     jacobian->block(row_friction, row_friction, nc, nc) += fourier.WeightedProduct(psi_r);
     // The limit μ·max(0, λ − ρg): ∂/∂λ = μH, ∂/∂x_dof = μH·ρn.
     const Eigen::MatrixXd d_limit = fourier.WeightedProduct(psi_n);

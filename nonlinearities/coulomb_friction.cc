@@ -76,16 +76,17 @@ void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
   residual.segment(row_own, nc) += fourier.ToCoefficients(psi);
 
   if (jacobian != nullptr) {
-    jacobian->block(row_dof, row_own, nc, nc) -= Eigen::MatrixXd::Identity(nc, nc);
+    jacobian->block(row_dof, row_own, nc, nc).diagonal().array() -= 1.0;
+    if (row_other >= 0) jacobian->block(row_other, row_own, nc, nc).diagonal().array() += 1.0;
+    // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E, added in place.
+    Eigen::MatrixXd product;
+    fourier.WeightedProduct(psi_v, &product);
+    fourier.AddTimesDerivative(product, omega, jacobian->block(row_own, row_dof, nc, nc));
     if (row_other >= 0) {
-      jacobian->block(row_other, row_own, nc, nc) += Eigen::MatrixXd::Identity(nc, nc);
+      fourier.AddTimesDerivative(product, -omega, jacobian->block(row_own, row_other, nc, nc));
     }
-    // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E.
-    const Eigen::MatrixXd d_velocity =
-        omega * fourier.TimesDerivative(fourier.WeightedProduct(psi_v));
-    jacobian->block(row_own, row_dof, nc, nc) += d_velocity;
-    if (row_other >= 0) jacobian->block(row_own, row_other, nc, nc) -= d_velocity;
-    jacobian->block(row_own, row_own, nc, nc) += fourier.WeightedProduct(psi_r);
+    fourier.WeightedProduct(psi_r, &product);
+    jacobian->block(row_own, row_own, nc, nc) += product;
   }
   if (d_omega != nullptr) {
     // v = ωD x: ∂v/∂ω = D x = v / ω.

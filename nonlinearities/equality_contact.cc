@@ -73,11 +73,10 @@ void EqualityContact::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
   residual.segment(row_own, nc) += fourier.ToCoefficients(phi);
 
   if (jacobian != nullptr) {
-    const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(nc, nc);
     const int row_dof = ctx.DofOffset(0);
     const int row_other = spec_.geometry.other >= 0 ? ctx.DofOffset(1) : -1;
-    jacobian->block(row_dof, row_own, nc, nc) += n * identity;
-    if (row_other >= 0) jacobian->block(row_other, row_own, nc, nc) -= n * identity;
+    jacobian->block(row_dof, row_own, nc, nc).diagonal().array() += n;
+    if (row_other >= 0) jacobian->block(row_other, row_own, nc, nc).diagonal().array() -= n;
     // g = g0 − n(x_dof − x_other): ∂Φ/∂x_dof = −nρ P diag(on_gap) E.
     const Eigen::MatrixXd d_gap = rho * fourier.WeightedProduct(on_gap);
     jacobian->block(row_own, row_dof, nc, nc) -= n * d_gap;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "analysis/case.h"
+#include "continuation/evaluator.h"
 #include "nonlinearities/jacobian_check.h"
 #include "support/chain_case.h"
 
@@ -71,6 +72,30 @@ TEST_CASE("harmonic system: the assembled R_y and R_omega match finite differenc
     CHECK(check.residual_error <= kSameResidual);
     CHECK(check.omega_error < kJacobianTolerance);
   }
+}
+
+TEST_CASE("harmonic system: non-finite outputs fail the evaluation itself, as the engine trusts") {
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(ChainWithEveryLaw());
+  REQUIRE(system->ChecksFiniteness());  // the engine then skips its own pass over R_y
+  constexpr double kOmega = 1.1;
+  Eigen::VectorXd y = system->InitialGuess(kOmega);
+  // The cubic spring's DOF at 1e120 m: its force k3·x³ ~ 1e360 N overflows.
+  y(0) = 1e120;
+  Eigen::VectorXd residual, d_omega;
+  Eigen::MatrixXd jacobian;
+  CHECK_FALSE(system->Evaluate(y, kOmega, &residual, &jacobian, &d_omega));
+  CHECK(system->last_error().find("not finite at omega") != std::string::npos);
+  CHECK_FALSE(system->Evaluate(y, kOmega, &residual, nullptr, nullptr));
+  Evaluator evaluator(*system);
+  Eigen::VectorXd u(y.size() + 1);
+  u << y, kOmega;
+  Linearization linearization;
+  CHECK_FALSE(evaluator.Linearize(u, &linearization));
+  CHECK_FALSE(evaluator.Residual(y, kOmega, &residual));
+  // And finite where the spring's DOF is back at a physical amplitude.
+  y(0) = 0.1;
+  u(0) = 0.1;
+  CHECK(evaluator.Linearize(u, &linearization));
 }
 
 TEST_CASE("harmonic system: step weights are 1 on displacements and own_step_weight elsewhere") {

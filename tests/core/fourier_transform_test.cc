@@ -236,7 +236,34 @@ TEST_CASE("WeightedProduct equals the dense P diag(w) E for full and odd sets, a
       CAPTURE(odd);
       CAPTURE(samples);
       CHECK((fourier.WeightedProduct(w) - dense).cwiseAbs().maxCoeff() < kTolerance);
+      // Into a buffer of another size, then again into the same one (its tables reused).
+      Eigen::MatrixXd product = Eigen::MatrixXd::Constant(3, 5, 7.0);
+      fourier.WeightedProduct(-w, &product);
+      CHECK((product + dense).cwiseAbs().maxCoeff() < kTolerance);
+      fourier.WeightedProduct(w, &product);
+      CHECK((product - dense).cwiseAbs().maxCoeff() < kTolerance);
     }
+  }
+}
+
+TEST_CASE("AddTimesDerivative adds scale m D in place, rounded as the product added") {
+  for (bool odd : {false, true}) {
+    const HarmonicSet set(6, odd);
+    const FourierTransform fourier(set);
+    const int nc = set.NumCoefficients();
+    const Eigen::MatrixXd m = Eigen::MatrixXd::Random(nc, nc);
+    const Eigen::MatrixXd start = Eigen::MatrixXd::Random(nc + 3, nc + 2);
+    constexpr double kScale = -0.731;
+    // Into a block of a larger matrix, as a law's Jacobian block is assembled.
+    Eigen::MatrixXd target = start;
+    fourier.AddTimesDerivative(m, kScale, target.block(2, 1, nc, nc));
+    Eigen::MatrixXd expected = start;
+    expected.block(2, 1, nc, nc) += kScale * (m * fourier.DerivativeMatrix());
+    CAPTURE(odd);
+    // m·D has one product per entry, so the two agree exactly, and outside the block too.
+    CHECK((target - expected).cwiseAbs().maxCoeff() == 0.0);
+    CHECK_THROWS_AS(fourier.AddTimesDerivative(m, 1.0, target.block(0, 0, nc, nc + 1)),
+                    std::invalid_argument);
   }
 }
 
