@@ -56,28 +56,49 @@ bool AugmentedSolver::Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x,
   return Factorize(a_, b, x, elimination);
 }
 
+bool AugmentedSolver::Solve(const BorderedView& view, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                            const EliminationBlocks* elimination) {
+  kind_ = Kind::kNone;
+  sign_ = 0;
+  last_row_ = view.last_row();
+  if (elimination != nullptr && !elimination->empty() && Eliminate(view, b, x, *elimination)) {
+    return true;
+  }
+  view.Materialize(&a_);
+  return FactorizeWhole(a_, b, x);
+}
+
 bool AugmentedSolver::Factorize(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
                                 Eigen::VectorXd* x, const EliminationBlocks* elimination) {
   kind_ = Kind::kNone;
   sign_ = 0;
-  if (elimination != nullptr && !elimination->empty()) {
-    elimination_ = BlockElimination::Factor(a, *elimination);
-    if (elimination_) {
-      Eigen::MatrixXd schur;
-      Eigen::VectorXd schur_rhs;
-      const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
-      elimination_->Reduce(a, b, block_solutions, &schur, &schur_rhs);
-      lu_.Compute(schur);
-      if (RegularForElimination(lu_)) {
-        elimination_->BackSubstitute(block_solutions, lu_.Solve(schur_rhs), x);
-        if (x->allFinite()) {
-          kind_ = Kind::kEliminated;
-          sign_ = elimination_->determinant_sign() * lu_.DeterminantSign();
-          return true;
-        }
-      }
-    }
+  last_row_ = a.row(a.rows() - 1).transpose();
+  if (elimination != nullptr && !elimination->empty() && Eliminate(a, b, x, *elimination)) {
+    return true;
   }
+  return FactorizeWhole(a, b, x);
+}
+
+template <typename Matrix>
+bool AugmentedSolver::Eliminate(const Matrix& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                                const EliminationBlocks& elimination) {
+  elimination_ = BlockElimination::Factor(a, elimination);
+  if (!elimination_) return false;
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd schur_rhs;
+  const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
+  elimination_->Reduce(a, b, block_solutions, &schur, &schur_rhs, &rest_columns_);
+  lu_.Compute(schur);
+  if (!RegularForElimination(lu_)) return false;
+  elimination_->BackSubstitute(block_solutions, lu_.Solve(schur_rhs), x);
+  if (!x->allFinite()) return false;
+  kind_ = Kind::kEliminated;
+  sign_ = elimination_->determinant_sign() * lu_.DeterminantSign();
+  return true;
+}
+
+bool AugmentedSolver::FactorizeWhole(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                                     Eigen::VectorXd* x) {
   lu_.Compute(a);
   if (PivotsAbove(lu_, kSingularPivotRatio)) {
     *x = lu_.Solve(b);
@@ -100,8 +121,9 @@ bool AugmentedSolver::SolveAgain(const Eigen::VectorXd& b, Eigen::VectorXd* x) c
       return false;
     case Kind::kEliminated: {
       const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
-      elimination_->BackSubstitute(block_solutions,
-                                   lu_.Solve(elimination_->ReduceRhs(a_, b, block_solutions)), x);
+      elimination_->BackSubstitute(
+          block_solutions, lu_.Solve(elimination_->ReduceRhs(rest_columns_, b, block_solutions)),
+          x);
       break;
     }
     case Kind::kRegular:

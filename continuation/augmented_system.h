@@ -45,11 +45,17 @@ class AugmentedSolver {
   const Eigen::MatrixXd& matrix() const { return a_; }
   // Factorises matrix() and solves, exactly as SolveAugmented; false if x is not finite.
   bool Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, const EliminationBlocks* elimination);
-  // Solves again with the factorisation of the last Solve that succeeded; matrix() must be
-  // unchanged since. False if x is not finite or no Solve succeeded.
+  // The same for the matrix `view` reads, which is made only where the elimination gives way
+  // (matrix() is then that copy; otherwise it is left as it was). Bit for bit Solve's solution.
+  bool Solve(const BorderedView& view, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+             const EliminationBlocks* elimination);
+  // Solves again with the factorisation of the last Solve that succeeded. False if x is not
+  // finite or no Solve succeeded.
   bool SolveAgain(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
-  // The sign of det matrix() from that factorisation (0 after the full-pivoting fallback).
+  // The sign of the factorised matrix's determinant (0 after the full-pivoting fallback).
   int determinant_sign() const { return sign_; }
+  // The factorised matrix's last row (the constraint's).
+  const Eigen::VectorXd& last_row() const { return last_row_; }
 
  private:
   friend bool SolveAugmented(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
@@ -57,13 +63,21 @@ class AugmentedSolver {
   // Solve on `a` (matrix() or the caller's, for SolveAugmented).
   bool Factorize(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                  const EliminationBlocks* elimination);
+  // The elimination's part of Factorize; false where it gives way to the whole LU.
+  template <typename Matrix>
+  bool Eliminate(const Matrix& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                 const EliminationBlocks& elimination);
+  // The whole matrix's LU, and the full-pivoting one where that is singular.
+  bool FactorizeWhole(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
   enum class Kind { kNone, kEliminated, kRegular, kFullPivoting };
   Eigen::MatrixXd a_;
   Kind kind_ = Kind::kNone;
   std::optional<BlockElimination> elimination_;  // kEliminated: the blocks' part
-  DenseLu lu_;                                   // of the Schur complement, or of a (kRegular)
-  Eigen::FullPivLU<Eigen::MatrixXd> full_;       // kFullPivoting
+  Eigen::MatrixXd rest_columns_;                 // kEliminated: A_rest,B (ReduceRhs)
+  Eigen::VectorXd last_row_;
+  DenseLu lu_;                              // of the Schur complement, or of a (kRegular)
+  Eigen::FullPivLU<Eigen::MatrixXd> full_;  // kFullPivoting
   int sign_ = 0;
 };
 

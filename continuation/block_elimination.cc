@@ -32,23 +32,43 @@ namespace {
 // tests them in vector instructions instead of one branch per entry.
 constexpr int kScanChunk = 16;
 
+// Rows [start, start + length) of column j of a, into `out` (size length).
+void ReadColumn(const Eigen::MatrixXd& a, Eigen::Index j, Eigen::Index start, Eigen::Index length,
+                Eigen::Ref<Eigen::VectorXd> out) {
+  out = a.col(j).segment(start, length);
+}
+void ReadColumn(const BorderedView& a, Eigen::Index j, Eigen::Index start, Eigen::Index length,
+                Eigen::Ref<Eigen::VectorXd> out) {
+  a.ReadColumn(j, start, length, out);
+}
+
+// Column j's storage from row 0, where its zeros are read (the blocks' rows are above a
+// bordered matrix's last row).
+const double* ZeroPatternColumn(const Eigen::MatrixXd& a, Eigen::Index j) {
+  return a.col(j).data();
+}
+const double* ZeroPatternColumn(const BorderedView& a, Eigen::Index j) {
+  return a.UnscaledColumn(j);
+}
+
 // Calls visit(row) for each of block_rows (ascending) whose entry in `column` is not zero
 // (NaN included), in increasing order.
-template <typename Visit>
-void ForEachNonzeroBlockRow(const Eigen::MatrixXd& a, int column,
-                            const std::vector<int>& block_rows, Visit visit) {
+template <typename Matrix, typename Visit>
+void ForEachNonzeroBlockRow(const Matrix& a, int column, const std::vector<int>& block_rows,
+                            Visit visit) {
   const int count = static_cast<int>(block_rows.size());
   if (count == 0) return;
   const int first = block_rows.front();
+  const double* entries = ZeroPatternColumn(a, column);
   if (block_rows.back() - first + 1 != count) {
     for (const int row : block_rows) {
-      if (a(row, column) != 0.0) visit(row);
+      if (entries[row] != 0.0) visit(row);
     }
     return;
   }
   for (int start = 0; start < count; start += kScanChunk) {
     const int length = std::min(kScanChunk, count - start);
-    const auto chunk = a.col(column).segment(first + start, length);
+    const Eigen::Map<const Eigen::VectorXd> chunk(entries + first + start, length);
     if (chunk.cwiseAbs().sum() == 0.0) continue;
     for (int k = 0; k < length; ++k) {
       if (chunk(k) != 0.0) visit(first + start + k);
@@ -58,7 +78,8 @@ void ForEachNonzeroBlockRow(const Eigen::MatrixXd& a, int column,
 
 }  // namespace
 
-std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd& a,
+template <typename Matrix>
+std::optional<BlockElimination> BlockElimination::Factor(const Matrix& a,
                                                          const EliminationBlocks& blocks) {
   BlockElimination result;
   const int size = static_cast<int>(a.rows());
@@ -167,17 +188,17 @@ Eigen::VectorXd BlockElimination::BlockSolutions(const Eigen::VectorXd& b) const
   return solutions;
 }
 
-void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+template <typename Matrix>
+void BlockElimination::Reduce(const Matrix& a, const Eigen::VectorXd& b,
                               const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
-                              Eigen::VectorXd* schur_rhs) const {
+                              Eigen::VectorXd* schur_rhs, Eigen::MatrixXd* rest_columns) const {
   const int num_rest = static_cast<int>(rest_.size());
-  if (rest_run_) {
-    *schur = a.block(rest_.front(), rest_.front(), num_rest, num_rest);
-  } else {
-    *schur = a(rest_, rest_);
-  }
+  schur->resize(num_rest, num_rest);
+  for (int j = 0; j < num_rest; ++j) RestColumn(a, rest_[static_cast<size_t>(j)], schur->col(j));
   *schur_rhs = b(rest_);
-  Eigen::VectorXd left(num_rest);
+  Eigen::MatrixXd own_columns;
+  Eigen::MatrixXd& columns = rest_columns != nullptr ? *rest_columns : own_columns;
+  columns.resize(num_rest, size_ - num_rest);
   Eigen::Index offset = 0;
   // S −= A_rest,B A_BB⁻¹ A_B,coupled and the right-hand side alike, one column of A_rest,B
   // at a time: an update of the few coupled columns of S.
@@ -185,7 +206,8 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
     const int nb = static_cast<int>(block.unknowns.size());
     const int nc = static_cast<int>(block.coupled.size());
     for (int i = 0; i < nb; ++i) {
-      RestColumn(a, block.unknowns[static_cast<size_t>(i)], &left);
+      auto left = columns.col(offset + i);
+      RestColumn(a, block.unknowns[static_cast<size_t>(i)], left);
       for (int c = 0; c < nc; ++c) schur->col(block.coupled[c]) -= block.eliminated(i, c) * left;
       *schur_rhs -= block_solutions(offset + i) * left;
     }
@@ -193,26 +215,25 @@ void BlockElimination::Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
   }
 }
 
-Eigen::VectorXd BlockElimination::ReduceRhs(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+Eigen::VectorXd BlockElimination::ReduceRhs(const Eigen::MatrixXd& rest_columns,
+                                            const Eigen::VectorXd& b,
                                             const Eigen::VectorXd& block_solutions) const {
   Eigen::VectorXd rhs = b(rest_);
-  Eigen::VectorXd left(static_cast<Eigen::Index>(rest_.size()));
-  Eigen::Index offset = 0;
-  for (const Block& block : blocks_) {
-    for (const int unknown : block.unknowns) {
-      RestColumn(a, unknown, &left);
-      rhs -= block_solutions(offset++) * left;
-    }
+  for (Eigen::Index k = 0; k < rest_columns.cols(); ++k) {
+    rhs -= block_solutions(k) * rest_columns.col(k);
   }
   return rhs;
 }
 
-void BlockElimination::RestColumn(const Eigen::MatrixXd& a, int unknown,
-                                  Eigen::VectorXd* column) const {
+template <typename Matrix>
+void BlockElimination::RestColumn(const Matrix& a, int unknown,
+                                  Eigen::Ref<Eigen::VectorXd> column) const {
+  const Eigen::Index num_rest = static_cast<Eigen::Index>(rest_.size());
   if (rest_run_) {
-    *column = a.col(unknown).segment(rest_.front(), static_cast<Eigen::Index>(rest_.size()));
+    ReadColumn(a, unknown, rest_.front(), num_rest, column);
   } else {
-    *column = a(rest_, unknown);
+    for (Eigen::Index k = 0; k < num_rest; ++k)
+      column(k) = a(rest_[static_cast<size_t>(k)], unknown);
   }
 }
 
@@ -252,5 +273,16 @@ bool SolveEliminating(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
   }
   return true;
 }
+
+template std::optional<BlockElimination> BlockElimination::Factor(const Eigen::MatrixXd&,
+                                                                  const EliminationBlocks&);
+template std::optional<BlockElimination> BlockElimination::Factor(const BorderedView&,
+                                                                  const EliminationBlocks&);
+template void BlockElimination::Reduce(const Eigen::MatrixXd&, const Eigen::VectorXd&,
+                                       const Eigen::VectorXd&, Eigen::MatrixXd*, Eigen::VectorXd*,
+                                       Eigen::MatrixXd*) const;
+template void BlockElimination::Reduce(const BorderedView&, const Eigen::VectorXd&,
+                                       const Eigen::VectorXd&, Eigen::MatrixXd*, Eigen::VectorXd*,
+                                       Eigen::MatrixXd*) const;
 
 }  // namespace nfrc

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "continuation/bordered_view.h"
 #include "continuation/dense_lu.h"
 
 namespace nfrc {
@@ -46,8 +47,9 @@ class BlockElimination {
  public:
   // Nullopt where a block is numerically singular (kMinEliminationPivotRatio). Throws
   // std::logic_error if two blocks are coupled in `a` (the problem broke its promise).
-  static std::optional<BlockElimination> Factor(const Eigen::MatrixXd& a,
-                                                const EliminationBlocks& blocks);
+  // Matrix: Eigen::MatrixXd or BorderedView (the bordered matrix read in place).
+  template <typename Matrix>
+  static std::optional<BlockElimination> Factor(const Matrix& a, const EliminationBlocks& blocks);
 
   // The unknowns kept, ascending: the Schur complement's order.
   const std::vector<int>& rest() const { return rest_; }
@@ -58,11 +60,15 @@ class BlockElimination {
   // A_BB⁻¹ b_B of every block, one after the other (for Reduce and BackSubstitute).
   Eigen::VectorXd BlockSolutions(const Eigen::VectorXd& b) const;
   // S = A_rr − A_rB A_BB⁻¹ A_B,rest and its right-hand side b_r − A_rB A_BB⁻¹ b_B.
-  void Reduce(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-              const Eigen::VectorXd& block_solutions, Eigen::MatrixXd* schur,
-              Eigen::VectorXd* schur_rhs) const;
-  // The right-hand side alone, b_r − A_rB A_BB⁻¹ b_B, for a further one with the same `a`.
-  Eigen::VectorXd ReduceRhs(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+  // rest_columns (optional): A_rest,B, the blocks' columns in the rest's rows, one block after
+  // the other, for ReduceRhs.
+  template <typename Matrix>
+  void Reduce(const Matrix& a, const Eigen::VectorXd& b, const Eigen::VectorXd& block_solutions,
+              Eigen::MatrixXd* schur, Eigen::VectorXd* schur_rhs,
+              Eigen::MatrixXd* rest_columns = nullptr) const;
+  // The right-hand side alone, b_r − A_rB A_BB⁻¹ b_B, for a further one with the same `a`,
+  // from Reduce's rest_columns.
+  Eigen::VectorXd ReduceRhs(const Eigen::MatrixXd& rest_columns, const Eigen::VectorXd& b,
                             const Eigen::VectorXd& block_solutions) const;
   // x from the rest's solution: x_r, and x_B = A_BB⁻¹ b_B − A_BB⁻¹ A_B,rest x_r.
   void BackSubstitute(const Eigen::VectorXd& block_solutions, const Eigen::VectorXd& rest_solution,
@@ -78,7 +84,8 @@ class BlockElimination {
     Eigen::MatrixXd eliminated;               // A_BB⁻¹ A_B,coupled
   };
   // Column `unknown` of a in the rest's rows, into `column` (sized by the caller).
-  void RestColumn(const Eigen::MatrixXd& a, int unknown, Eigen::VectorXd* column) const;
+  template <typename Matrix>
+  void RestColumn(const Matrix& a, int unknown, Eigen::Ref<Eigen::VectorXd> column) const;
 
   int size_ = 0;
   std::vector<int> rest_;

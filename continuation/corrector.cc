@@ -85,8 +85,9 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
       !result.linearization.elimination->empty()) {
     reused.emplace(*result.linearization.elimination);
   }
-  // Its matrix is filled anew at each iteration, in the same storage; on the arclength the
-  // last factorisation goes out with the result (CorrectorResult::last_step).
+  // At fixed λ its matrix is filled anew at each iteration, in the same storage; on the
+  // arclength the elimination reads the Jacobians in place, and the last factorisation goes
+  // out with the result (CorrectorResult::last_step).
   AugmentedSolver solver;
   Eigen::MatrixXd& augmented = solver.matrix();
   bool solver_solved = false;  // whether the solver (not `reused`) solved the last iteration
@@ -102,13 +103,24 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     rhs.head(n) = -result.linearization.residual / r;
     rhs(n) = -constraint_residual(result.u);
     Eigen::VectorXd step_scaled;
-    AugmentedMatrix(result.linearization, scaling, r, row, &augmented);
-    // At fixed λ the last row gives Δλ = 0, so R_λ's column acts on nothing; zero, it is one
-    // change less between iterations for the reused factorisation.
-    if (constraint == Constraint::kFixedLambda) augmented.topRightCorner(n, 1).setZero();
-    solver_solved = !(reused && reused->Solve(augmented, rhs, &step_scaled));
-    if (solver_solved && !solver.Solve(rhs, &step_scaled, result.linearization.elimination.get())) {
-      return Fail(std::move(result), "augmented system not solvable");
+    const EliminationBlocks* elimination = result.linearization.elimination.get();
+    if (constraint == Constraint::kArclength) {
+      // Read in place by the elimination; made only where it gives way.
+      const BorderedView view(result.linearization.jacobian_y, result.linearization.jacobian_lambda,
+                              scaling.scales(), r, row);
+      solver_solved = true;
+      if (!solver.Solve(view, rhs, &step_scaled, elimination)) {
+        return Fail(std::move(result), "augmented system not solvable");
+      }
+    } else {
+      AugmentedMatrix(result.linearization, scaling, r, row, &augmented);
+      // At fixed λ the last row gives Δλ = 0, so R_λ's column acts on nothing; zero, it is one
+      // change less between iterations for the reused factorisation.
+      augmented.topRightCorner(n, 1).setZero();
+      solver_solved = !(reused && reused->Solve(augmented, rhs, &step_scaled));
+      if (solver_solved && !solver.Solve(rhs, &step_scaled, elimination)) {
+        return Fail(std::move(result), "augmented system not solvable");
+      }
     }
     if (reused) result.low_rank_updates = reused->counts().updates;
     result.iterations = iteration;

@@ -40,9 +40,9 @@ bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
   }
   const bool sized = result->residual.size() == n_ && result->jacobian_y.rows() == n_ &&
                      result->jacobian_y.cols() == n_ && result->jacobian_lambda.size() == n_;
-  return sized && (checks_finiteness_ || (result->residual.allFinite() &&
-                                          AllFinite(result->jacobian_y) &&
-                                          result->jacobian_lambda.allFinite()));
+  return sized &&
+         (checks_finiteness_ || (result->residual.allFinite() && AllFinite(result->jacobian_y) &&
+                                 result->jacobian_lambda.allFinite()));
 }
 
 double Evaluator::ResidualNoise(const Eigen::VectorXd& u) {

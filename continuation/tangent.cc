@@ -91,8 +91,7 @@ bool NextTangent(const AugmentedSolver& last_step, const Linearization& lineariz
                  const Eigen::VectorXd& previous_scaled, Eigen::VectorXd* tangent_scaled,
                  int* orientation) {
   const int n = scaling.num_unknowns();
-  assert(last_step.matrix().rows() == n + 1 &&
-         last_step.matrix().row(n) == previous_scaled.transpose());
+  assert(last_step.last_row().size() == n + 1 && last_step.last_row() == previous_scaled);
   const Eigen::VectorXd& scales = scaling.scales();
   const Eigen::VectorXd unit = Eigen::VectorXd::Unit(n + 1, n);
   Eigen::VectorXd solution, correction, residual(n + 1);
