@@ -24,13 +24,9 @@ Eigen::MatrixXd AugmentedMatrix(const Linearization& linearization, const Scalin
 
 void AugmentedMatrix(const Linearization& linearization, const Scaling& scaling,
                      double residual_scale, const Eigen::VectorXd& last_row, Eigen::MatrixXd* a) {
-  const int n = scaling.num_unknowns();
-  const Eigen::VectorXd& scales = scaling.scales();
-  a->resize(n + 1, n + 1);
-  a->topLeftCorner(n, n).noalias() =
-      linearization.jacobian_y * scales.head(n).asDiagonal() / residual_scale;
-  a->topRightCorner(n, 1) = linearization.jacobian_lambda * (scales(n) / residual_scale);
-  a->bottomRows(1) = last_row.transpose();
+  BorderedView(linearization.jacobian_y, linearization.jacobian_lambda, scaling.scales(),
+               residual_scale, last_row)
+      .Materialize(a);
 }
 
 bool SolveRegular(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,

@@ -7,8 +7,8 @@ namespace nfrc {
 
 // The scaled bordered matrix A = [[R_y D_y, R_λ s_λ] / r; cᵀ] of a Newton step, read in place
 // from the Jacobians: A(i, j) = (R_y(i, j)·s_j)/r, A(i, n) = R_λ(i)·(s_λ/r), A(n, j) = c_j,
-// rounded exactly as AugmentedMatrix writes them. The block elimination reads each entry it
-// needs once, so the (n + 1)² copy (9 % of the N_φ = 160 friction curve) is not made.
+// rounded exactly as Materialize (and so AugmentedMatrix) writes them. The block elimination reads
+// each entry it needs once, so the (n + 1)² copy (9 % of the N_φ = 160 friction curve) is not made.
 // Holds references: the Jacobians, scales and row must outlive it.
 class BorderedView {
  public:
@@ -53,7 +53,7 @@ class BorderedView {
     return j == n_ ? jacobian_lambda_.data() : jacobian_y_.col(j).data();
   }
 
-  // The whole matrix, as AugmentedMatrix writes it (where the elimination gives way).
+  // The whole matrix (AugmentedMatrix, and where the elimination gives way).
   void Materialize(Eigen::MatrixXd* a) const {
     a->resize(n_ + 1, n_ + 1);
     a->topLeftCorner(n_, n_).noalias() =

@@ -219,21 +219,8 @@ void FourierTransform::Differentiate(const Eigen::Ref<const Eigen::MatrixXd>& co
 
 Eigen::MatrixXd FourierTransform::TimesDerivative(
     const Eigen::Ref<const Eigen::MatrixXd>& m) const {
-  CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
-  // D(cos k, sin k) = k and D(sin k, cos k) = −k: each column of m·D is a scaled column of
-  // m (columns, not rows, of the column-major storage).
-  Eigen::MatrixXd product(m.rows(), m.cols());
-  for (int p = 0; p < set_.num_harmonics(); ++p) {
-    const int k = set_.harmonics()[p];
-    const int ic = set_.CosIndex(p);
-    if (k == 0) {
-      product.col(ic).setZero();
-      continue;
-    }
-    const int is = set_.SinIndex(p);
-    product.col(ic) = -k * m.col(is);
-    product.col(is) = k * m.col(ic);
-  }
+  Eigen::MatrixXd product = Eigen::MatrixXd::Zero(m.rows(), m.cols());
+  AddTimesDerivative(m, 1.0, product);  // 0 + 1·(±k·m) is ±k·m exactly
   return product;
 }
 
@@ -241,12 +228,14 @@ void FourierTransform::AddTimesDerivative(const Eigen::Ref<const Eigen::MatrixXd
                                           Eigen::Ref<Eigen::MatrixXd> target) const {
   CheckShape("m", m.rows(), m.cols(), m.rows(), set_.NumCoefficients());
   CheckShape("target", target.rows(), target.cols(), m.rows(), m.cols());
+  // D(cos k, sin k) = k and D(sin k, cos k) = −k: each column of m·D is a scaled column of
+  // m (columns, not rows, of the column-major storage).
   for (int p = 0; p < set_.num_harmonics(); ++p) {
     const int k = set_.harmonics()[p];
     if (k == 0) continue;  // m·D's column of the constant is zero
     const int ic = set_.CosIndex(p);
     const int is = set_.SinIndex(p);
-    // scale·(−k·m) as scale·TimesDerivative(m) would round it, entry for entry.
+    // ±k·m first, as m·D has it, then scaled: scale·TimesDerivative(m) to the bit.
     target.col(ic) += scale * (-k * m.col(is));
     target.col(is) += scale * (k * m.col(ic));
   }
