@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "analysis/hill_memory.h"
+#include "analysis/hill_product.h"
 #include "analysis/hill_solver.h"
 
 namespace nfrc {
@@ -170,26 +171,72 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
     result.startVec(col);
     const int j = condensed[static_cast<size_t>(col)];
     Eigen::SparseMatrix<double>::InnerIterator it(linear, col);
-    int i = 0;
-    const auto skip_zeros = [&] {
-      while (j >= 0 && i < m && law(i, j) == 0.0) ++i;
-    };
-    skip_zeros();
-    while (it || (j >= 0 && i < m)) {
-      const int law_row = j >= 0 && i < m ? targets[static_cast<size_t>(i)] : size;
-      const int linear_row = it ? static_cast<int>(it.row()) : size;
-      if (linear_row < law_row) {
-        result.insertBack(linear_row, col) = it.value();
-        ++it;
-      } else if (law_row < linear_row) {
-        result.insertBack(law_row, col) = law(i, j);
-        ++i;
-        skip_zeros();
-      } else {
-        result.insertBack(linear_row, col) = it.value() + law(i, j);
-        ++it;
-        ++i;
-        skip_zeros();
+    if (j >= 0) {
+      const double* column = law.col(j).data();
+      for (int i = 0; i < m; ++i) {
+        if (column[i] == 0.0) continue;
+        const int row = targets[static_cast<size_t>(i)];
+        for (; it && it.row() < row; ++it) result.insertBack(it.row(), col) = it.value();
+        if (it && it.row() == row) {
+          result.insertBack(row, col) = it.value() + column[i];
+          ++it;
+        } else {
+          result.insertBack(row, col) = column[i];
+        }
+      }
+    }
+    for (; it; ++it) result.insertBack(it.row(), col) = it.value();
+  }
+  result.finalize();
+  return result;
+}
+
+// The condensed-layout `law` at rows and columns `targets` (increasing) of a matrix of the
+// pencil's size, by rows: counted, then filled, in two passes down law's contiguous columns.
+Eigen::SparseMatrix<double, Eigen::RowMajor> MappedRows(const Eigen::MatrixXd& law,
+                                                        const std::vector<int>& targets, int size) {
+  const Eigen::Index m = law.rows();
+  std::vector<int> count(static_cast<size_t>(m) + 1, 0);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double* column = law.col(j).data();
+    for (Eigen::Index i = 0; i < m; ++i) count[static_cast<size_t>(i) + 1] += column[i] != 0.0;
+  }
+  for (size_t i = 0; i < static_cast<size_t>(m); ++i) count[i + 1] += count[i];
+  Eigen::SparseMatrix<double, Eigen::RowMajor> result(size, size);
+  result.resizeNonZeros(count.back());
+  int* outer = result.outerIndexPtr();
+  // Rows off the map are empty: each row starts where the next mapped row's entries start.
+  for (Eigen::Index i = 0, row = 0; row <= size; ++row) {
+    outer[row] = count[static_cast<size_t>(i)];
+    if (i < m && row == targets[static_cast<size_t>(i)]) ++i;
+  }
+  std::vector<int> next(count.begin(), count.end() - 1);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double* column = law.col(j).data();
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (column[i] == 0.0) continue;
+      const int slot = next[static_cast<size_t>(i)]++;
+      result.innerIndexPtr()[slot] = targets[static_cast<size_t>(j)];
+      result.valuePtr()[slot] = column[i];
+    }
+  }
+  return result;
+}
+
+// The rows of a dependence's force (nc × size) placed at each target block (its first
+// unknown, ascending and disjoint, and its sign), as one matrix of the pencil's size.
+Eigen::SparseMatrix<double> PlacedRows(const Eigen::MatrixXd& force,
+                                       const std::vector<std::pair<int, double>>& targets,
+                                       int size) {
+  const int nc = static_cast<int>(force.rows());
+  Eigen::SparseMatrix<double> result(size, size);
+  result.reserve(static_cast<Eigen::Index>(targets.size()) * (force.array() != 0.0).count());
+  for (int j = 0; j < size; ++j) {
+    result.startVec(j);
+    for (const auto& [first, sign] : targets) {
+      for (int c = 0; c < nc; ++c) {
+        const double value = force(c, j);
+        if (value != 0.0) result.insertBack(first + c, j) = sign * value;
       }
     }
   }
@@ -214,7 +261,8 @@ struct HillAssembler::Cache {
   // inverse: each full unknown's condensed index, −1 for the others.
   std::vector<int> increasing_targets;
   std::vector<int> condensed_of;
-  HillPencil shape;  // set, dynamic, signal offsets, state dimension
+  HillPencil shape;     // set, dynamic, signal offsets, state dimension
+  HillFactors factors;  // Cᵀ, Mᵀ and D (the laws' parts are the point's)
 };
 
 HillAssembler::HillAssembler(HarmonicSystem& system)
@@ -262,6 +310,9 @@ HillAssembler::HillAssembler(HarmonicSystem& system)
   cache.damping = kronecker(model.damping, identity);
   cache.mass_d = kronecker(model.mass, d);
   cache.mass = kronecker(model.mass, identity);
+  cache.factors.damping_t = model.damping.transpose();
+  cache.factors.mass_t = model.mass.transpose();
+  cache.factors.derivative = d;
 
   const int nx = system.num_displacement_unknowns();
   cache.map.resize(static_cast<size_t>(system.NumUnknowns()));
@@ -330,6 +381,12 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // Its rows in row-major order, for laws whose force is predicted from them (DLFT).
   std::optional<std::array<RowMatrix, 3>> linear_rows;
   std::array<Triplets, 3> laws;
+  // The dependences' entries of Δ0, Δ1 and Δ2 (in the pencil's matrices, not in laws_d1 and
+  // laws_d2: HillProduct takes them from the linear product).
+  std::array<Eigen::SparseMatrix<double>, 3> dependent;
+  HillPencil pencil = cache.shape;
+  pencil.omega = omega;
+  HillFactors& factors = pencil.factors.emplace(cache.factors);
   std::vector<HillMemory> memory;
   const int m = system_.NumUnknowns();
   // The laws' Jacobians, summed over the laws (each adds its own).
@@ -351,50 +408,60 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     if (!linear_rows)
       linear_rows.emplace(std::array<RowMatrix, 3>{*linear[0], *linear[1], *linear[2]});
     const std::vector<int> dofs = law.Dofs();
+    HillFactors::RowDependence& structured = factors.dependences.emplace_back();
+    structured.weights = dependence->weights;
+    for (const auto& [dof_index, coefficient] : dependence->terms) {
+      structured.terms.emplace_back(dofs[static_cast<size_t>(dof_index)], coefficient);
+    }
+    for (const auto& [dof_index, row_sign] : dependence->rows) {
+      const Targets& rows = cache.map[static_cast<size_t>(ctx.DofOffset(dof_index))];
+      for (int r = 0; r < rows.count; ++r) {
+        const Target& row = rows.entries[static_cast<size_t>(r)];
+        structured.rows.emplace_back(row.index, row.sign * row_sign);
+      }
+    }
+    std::sort(structured.rows.begin(), structured.rows.end());
     for (size_t k = 0; k < 3; ++k) {
+      // The linear rows are sparse (a DOF's neighbours): W times them costs nc·nnz.
       Eigen::MatrixXd force = Eigen::MatrixXd::Zero(nc, size);
-      for (const auto& [dof_index, coefficient] : dependence->terms) {
-        const int dof = dofs[static_cast<size_t>(dof_index)];
-        force += coefficient * dependence->weights *
-                 Eigen::MatrixXd((*linear_rows)[k].middleRows(dof * nc, nc));
+      for (const auto& [dof, coefficient] : structured.terms) {
+        force.noalias() +=
+            coefficient * (structured.weights * (*linear_rows)[k].middleRows(dof * nc, nc));
       }
-      for (const auto& [dof_index, row_sign] : dependence->rows) {
-        const int first = ctx.DofOffset(dof_index);  // condensed row of the DOF's block
-        for (int c = 0; c < nc; ++c) {
-          const Targets& rows = cache.map[static_cast<size_t>(first + c)];
-          for (int r = 0; r < rows.count; ++r) {
-            const Target& row = rows.entries[static_cast<size_t>(r)];
-            for (int j = 0; j < size; ++j) {
-              const double value = force(c, j);
-              if (value != 0.0) laws[k].emplace_back(row.index, j, row.sign * row_sign * value);
-            }
-          }
-        }
-      }
+      const Eigen::SparseMatrix<double> placed = PlacedRows(force, structured.rows, size);
+      dependent[k] =
+          dependent[k].size() == 0 ? placed : Eigen::SparseMatrix<double>(dependent[k] + placed);
     }
   }
 
-  HillPencil pencil = cache.shape;
-  pencil.omega = omega;
-  const bool only_jacobians = memory.empty() && laws[0].empty() && laws[1].empty() &&
-                              laws[2].empty() && !cache.increasing_targets.empty();
+  const bool only_jacobians =
+      memory.empty() && factors.dependences.empty() && !cache.increasing_targets.empty();
   if (only_jacobians) {
     pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets, cache.condensed_of);
     pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of);
+    factors.laws_d1 = MappedRows(velocity, cache.increasing_targets, size);
     pencil.d2 = cache.mass;
+    factors.laws_d2.resize(size, size);
     return pencil;
   }
-  // The Jacobians' triplets come first, as the laws' other terms were added after them.
-  for (size_t k = 0; k < 2; ++k) {
-    Triplets mapped;
-    AddMapped(k == 0 ? jacobian : velocity, cache.map, &mapped);
-    mapped.insert(mapped.end(), laws[k].begin(), laws[k].end());
-    laws[k] = std::move(mapped);
-  }
+  // The Jacobians' triplets first, then the memory's (AddMemoryUnknowns, below).
+  for (size_t k = 0; k < 2; ++k) AddMapped(k == 0 ? jacobian : velocity, cache.map, &laws[k]);
+  // Each matrix: its linear part, the laws' mapped Jacobians and memory terms, and the
+  // dependences' rows.
+  const auto with = [&](const Eigen::SparseMatrix<double>& sum, size_t k, int total) {
+    if (dependent[k].size() == 0) return sum;
+    Eigen::SparseMatrix<double> grown = dependent[k];
+    grown.conservativeResize(total, total);
+    return Eigen::SparseMatrix<double>(sum + grown);
+  };
   if (memory.empty()) {
-    pencil.d0 = d0_linear + FromTriplets(laws[0], size);
-    pencil.d1 = d1_linear + FromTriplets(laws[1], size);
-    pencil.d2 = laws[2].empty() ? cache.mass : cache.mass + FromTriplets(laws[2], size);
+    const Eigen::SparseMatrix<double> rest1 = FromTriplets(laws[1], size);
+    factors.laws_d1 = rest1;
+    assert(laws[2].empty() && "only the memory's terms reach the laws' part of Δ2");
+    factors.laws_d2.resize(size, size);
+    pencil.d0 = with(d0_linear + FromTriplets(laws[0], size), 0, size);
+    pencil.d1 = with(d1_linear + rest1, 1, size);
+    pencil.d2 = with(cache.mass, 2, size);
     return pencil;
   }
   // The memory's unknowns after every other (algebraic: no Δ2). With own unknowns they join
@@ -409,9 +476,13 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     result.conservativeResize(total, total);
     return result;
   };
-  pencil.d0 = grown(d0_linear) + FromTriplets(laws[0], total);
-  pencil.d1 = grown(d1_linear) + FromTriplets(laws[1], total);
-  pencil.d2 = grown(cache.mass) + FromTriplets(laws[2], total);
+  const Eigen::SparseMatrix<double> rest1 = FromTriplets(laws[1], total);
+  const Eigen::SparseMatrix<double> rest2 = FromTriplets(laws[2], total);
+  factors.laws_d1 = rest1;
+  factors.laws_d2 = rest2;
+  pencil.d0 = with(grown(d0_linear) + FromTriplets(laws[0], total), 0, total);
+  pencil.d1 = with(grown(d1_linear) + rest1, 1, total);
+  pencil.d2 = with(grown(cache.mass) + rest2, 2, total);
   return pencil;
 }
 
@@ -454,7 +525,8 @@ class ShiftInvertOperator {
       : pencil_(pencil),
         n_(static_cast<int>(pencil.d0.rows())),
         sigma_(sigma),
-        solver_(Hill(pencil, sigma), DisplacementEnd(pencil), DisplacementHarmonics(pencil)) {}
+        solver_(Hill(pencil, sigma), DisplacementEnd(pencil), DisplacementHarmonics(pencil)),
+        product_(pencil) {}
   bool ok() const { return solver_.ok(); }
   Eigen::Index rows() const { return n_ + static_cast<Eigen::Index>(pencil_.dynamic.size()); }
   Eigen::Index cols() const { return rows(); }
@@ -469,8 +541,7 @@ class ShiftInvertOperator {
       const int index = pencil_.dynamic[static_cast<size_t>(i)];
       w_full_(index) = w(i) + sigma_ * q(index);
     }
-    rhs_.noalias() = pencil_.d1 * q;
-    rhs_.noalias() += pencil_.d2 * w_full_;
+    product_.Apply(q, w_full_, &rhs_);
     solver_.Solve(rhs_, &solution_);
     Eigen::Map<Eigen::VectorXd> out_q(y_out, n_), out_w(y_out + n_, nd);
     out_q = -solution_;
@@ -491,6 +562,7 @@ class ShiftInvertOperator {
   int n_;
   double sigma_;
   HillLinearSolver solver_;
+  HillProduct product_;
   mutable Eigen::VectorXd w_full_ = Eigen::VectorXd(n_), rhs_ = Eigen::VectorXd(n_),
                           solution_ = Eigen::VectorXd(n_);
 };

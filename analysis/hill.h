@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,8 +20,33 @@ namespace nfrc {
 // on the full, uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the
 // laws' own unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
 // through Z_red(s + ikω). Rows without mass (own unknowns, massless DOFs) are algebraic.
+// Δ1 and Δ2 factored for Arnoldi's products with them (30–100 per point): Δ1 = C⊗I + 2ω M⊗D +
+// dependences + laws_d1 and Δ2 = M⊗I + dependences + laws_d2, the Kronecker products over the
+// first n·nc unknowns (n DOFs,
+// nc coefficients each, DOF-major). A product then makes two dense (nc × n)·(n × n) passes
+// instead of one sparse pass over C⊗I's entries (n²·nc of them with the rod's modal damping).
+// A law that predicts its force from the linear rows (DLFT, LinearResidualDependence) adds
+// sign·W·Σ c·(the linear rows of a term's DOF) to Δ1's and Δ2's rows of a target block: nc rows
+// per target, each as dense as the linear rows. Its product is taken from the linear one.
+struct HillFactors {
+  struct RowDependence {
+    Eigen::MatrixXd weights;                    // W (nc × nc)
+    std::vector<std::pair<int, double>> terms;  // (DOF, c)
+    std::vector<std::pair<int, double>> rows;   // (first unknown of the target block, sign)
+  };
+  Eigen::SparseMatrix<double> damping_t, mass_t;  // Cᵀ and Mᵀ (n × n)
+  Eigen::SparseMatrix<double> derivative;         // D (nc × nc)
+  std::vector<RowDependence> dependences;
+  // The rest, of the pencil's size, by rows: each product entry is then summed in a register
+  // (the friction law's dense velocity block, 3 600 entries at N_φ = 60).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> laws_d1, laws_d2;
+};
+
 struct HillPencil {
   Eigen::SparseMatrix<double> d0, d1, d2;
+  // Set by HillAssembler (HillProduct uses them); a pencil without them is applied through d1
+  // and d2.
+  std::optional<HillFactors> factors;
   HarmonicSet set{1, false};
   double omega = 1.0;
   // Unknowns whose columns of Δ2 are non-zero (coefficients of DOFs with mass), ascending.
