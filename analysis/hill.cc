@@ -160,15 +160,23 @@ Eigen::SparseMatrix<double> FromTriplets(const Triplets& triplets, int size) {
 // per condensed unknown, increasing; `condensed` is its inverse, −1 off the map), merged
 // column by column: the same sums as adding the mapped triplets' matrix, without building and
 // sorting them (a 640 × 640 law's 400 000 entries per matrix and point at N_φ = 160).
+// `law_part` (optional): the mapped law alone, from the same pass.
 Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear,
                                        const Eigen::MatrixXd& law, const std::vector<int>& targets,
-                                       const std::vector<int>& condensed) {
+                                       const std::vector<int>& condensed,
+                                       Eigen::SparseMatrix<double>* law_part = nullptr) {
   const int size = static_cast<int>(linear.rows());
   const int m = static_cast<int>(law.rows());
+  const Eigen::Index law_entries = (law.array() != 0.0).count();
   Eigen::SparseMatrix<double> result(size, size);
-  result.reserve(linear.nonZeros() + (law.array() != 0.0).count());
+  result.reserve(linear.nonZeros() + law_entries);
+  if (law_part != nullptr) {
+    *law_part = Eigen::SparseMatrix<double>(size, size);
+    law_part->reserve(law_entries);
+  }
   for (int col = 0; col < size; ++col) {
     result.startVec(col);
+    if (law_part != nullptr) law_part->startVec(col);
     const int j = condensed[static_cast<size_t>(col)];
     Eigen::SparseMatrix<double>::InnerIterator it(linear, col);
     if (j >= 0) {
@@ -176,6 +184,7 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
       for (int i = 0; i < m; ++i) {
         if (column[i] == 0.0) continue;
         const int row = targets[static_cast<size_t>(i)];
+        if (law_part != nullptr) law_part->insertBack(row, col) = column[i];
         for (; it && it.row() < row; ++it) result.insertBack(it.row(), col) = it.value();
         if (it && it.row() == row) {
           result.insertBack(row, col) = it.value() + column[i];
@@ -188,38 +197,7 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
     for (; it; ++it) result.insertBack(it.row(), col) = it.value();
   }
   result.finalize();
-  return result;
-}
-
-// The condensed-layout `law` at rows and columns `targets` (increasing) of a matrix of the
-// pencil's size, by rows: counted, then filled, in two passes down law's contiguous columns.
-Eigen::SparseMatrix<double, Eigen::RowMajor> MappedRows(const Eigen::MatrixXd& law,
-                                                        const std::vector<int>& targets, int size) {
-  const Eigen::Index m = law.rows();
-  std::vector<int> count(static_cast<size_t>(m) + 1, 0);
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const double* column = law.col(j).data();
-    for (Eigen::Index i = 0; i < m; ++i) count[static_cast<size_t>(i) + 1] += column[i] != 0.0;
-  }
-  for (size_t i = 0; i < static_cast<size_t>(m); ++i) count[i + 1] += count[i];
-  Eigen::SparseMatrix<double, Eigen::RowMajor> result(size, size);
-  result.resizeNonZeros(count.back());
-  int* outer = result.outerIndexPtr();
-  // Rows off the map are empty: each row starts where the next mapped row's entries start.
-  for (Eigen::Index i = 0, row = 0; row <= size; ++row) {
-    outer[row] = count[static_cast<size_t>(i)];
-    if (i < m && row == targets[static_cast<size_t>(i)]) ++i;
-  }
-  std::vector<int> next(count.begin(), count.end() - 1);
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const double* column = law.col(j).data();
-    for (Eigen::Index i = 0; i < m; ++i) {
-      if (column[i] == 0.0) continue;
-      const int slot = next[static_cast<size_t>(i)]++;
-      result.innerIndexPtr()[slot] = targets[static_cast<size_t>(j)];
-      result.valuePtr()[slot] = column[i];
-    }
-  }
+  if (law_part != nullptr) law_part->finalize();
   return result;
 }
 
@@ -438,8 +416,8 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
       memory.empty() && factors.dependences.empty() && !cache.increasing_targets.empty();
   if (only_jacobians) {
     pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets, cache.condensed_of);
-    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of);
-    factors.laws_d1 = MappedRows(velocity, cache.increasing_targets, size);
+    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of,
+                           &factors.laws_d1);
     pencil.d2 = cache.mass;
     factors.laws_d2.resize(size, size);
     return pencil;
@@ -455,12 +433,11 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     return Eigen::SparseMatrix<double>(sum + grown);
   };
   if (memory.empty()) {
-    const Eigen::SparseMatrix<double> rest1 = FromTriplets(laws[1], size);
-    factors.laws_d1 = rest1;
+    factors.laws_d1 = FromTriplets(laws[1], size);
     assert(laws[2].empty() && "only the memory's terms reach the laws' part of Δ2");
     factors.laws_d2.resize(size, size);
     pencil.d0 = with(d0_linear + FromTriplets(laws[0], size), 0, size);
-    pencil.d1 = with(d1_linear + rest1, 1, size);
+    pencil.d1 = with(d1_linear + factors.laws_d1, 1, size);
     pencil.d2 = with(cache.mass, 2, size);
     return pencil;
   }
@@ -476,13 +453,11 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     result.conservativeResize(total, total);
     return result;
   };
-  const Eigen::SparseMatrix<double> rest1 = FromTriplets(laws[1], total);
-  const Eigen::SparseMatrix<double> rest2 = FromTriplets(laws[2], total);
-  factors.laws_d1 = rest1;
-  factors.laws_d2 = rest2;
+  factors.laws_d1 = FromTriplets(laws[1], total);
+  factors.laws_d2 = FromTriplets(laws[2], total);
   pencil.d0 = with(grown(d0_linear) + FromTriplets(laws[0], total), 0, total);
-  pencil.d1 = with(grown(d1_linear) + rest1, 1, total);
-  pencil.d2 = with(grown(cache.mass) + rest2, 2, total);
+  pencil.d1 = with(grown(d1_linear) + factors.laws_d1, 1, total);
+  pencil.d2 = with(grown(cache.mass) + factors.laws_d2, 2, total);
   return pencil;
 }
 

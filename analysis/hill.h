@@ -37,9 +37,7 @@ struct HillFactors {
   Eigen::SparseMatrix<double> damping_t, mass_t;  // Cᵀ and Mᵀ (n × n)
   Eigen::SparseMatrix<double> derivative;         // D (nc × nc)
   std::vector<RowDependence> dependences;
-  // The rest, of the pencil's size, by rows: each product entry is then summed in a register
-  // (the friction law's dense velocity block, 3 600 entries at N_φ = 60).
-  Eigen::SparseMatrix<double, Eigen::RowMajor> laws_d1, laws_d2;
+  Eigen::SparseMatrix<double> laws_d1, laws_d2;  // the rest, of the pencil's size
 };
 
 struct HillPencil {
