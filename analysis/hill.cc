@@ -160,23 +160,15 @@ Eigen::SparseMatrix<double> FromTriplets(const Triplets& triplets, int size) {
 // per condensed unknown, increasing; `condensed` is its inverse, −1 off the map), merged
 // column by column: the same sums as adding the mapped triplets' matrix, without building and
 // sorting them (a 640 × 640 law's 400 000 entries per matrix and point at N_φ = 160).
-// `law_part` (optional): the mapped law alone, from the same pass.
 Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear,
                                        const Eigen::MatrixXd& law, const std::vector<int>& targets,
-                                       const std::vector<int>& condensed,
-                                       Eigen::SparseMatrix<double>* law_part = nullptr) {
+                                       const std::vector<int>& condensed) {
   const int size = static_cast<int>(linear.rows());
   const int m = static_cast<int>(law.rows());
-  const Eigen::Index law_entries = (law.array() != 0.0).count();
   Eigen::SparseMatrix<double> result(size, size);
-  result.reserve(linear.nonZeros() + law_entries);
-  if (law_part != nullptr) {
-    *law_part = Eigen::SparseMatrix<double>(size, size);
-    law_part->reserve(law_entries);
-  }
+  result.reserve(linear.nonZeros() + (law.array() != 0.0).count());
   for (int col = 0; col < size; ++col) {
     result.startVec(col);
-    if (law_part != nullptr) law_part->startVec(col);
     const int j = condensed[static_cast<size_t>(col)];
     Eigen::SparseMatrix<double>::InnerIterator it(linear, col);
     if (j >= 0) {
@@ -184,7 +176,6 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
       for (int i = 0; i < m; ++i) {
         if (column[i] == 0.0) continue;
         const int row = targets[static_cast<size_t>(i)];
-        if (law_part != nullptr) law_part->insertBack(row, col) = column[i];
         for (; it && it.row() < row; ++it) result.insertBack(it.row(), col) = it.value();
         if (it && it.row() == row) {
           result.insertBack(row, col) = it.value() + column[i];
@@ -197,7 +188,6 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
     for (; it; ++it) result.insertBack(it.row(), col) = it.value();
   }
   result.finalize();
-  if (law_part != nullptr) law_part->finalize();
   return result;
 }
 
@@ -414,11 +404,21 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
 
   const bool only_jacobians =
       memory.empty() && factors.dependences.empty() && !cache.increasing_targets.empty();
+  // The entries the factored product replaces by Kronecker products (Δ1's and Δ2's linear
+  // parts): the factors are kept only where the laws' rest of Δ1 and Δ2 has fewer.
+  const Eigen::Index linear_entries = d1_linear.nonZeros() + cache.mass.nonZeros();
   if (only_jacobians) {
     pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets, cache.condensed_of);
-    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of,
-                           &factors.laws_d1);
+    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of);
     pencil.d2 = cache.mass;
+    // The law's entries outside the linear pattern, at least: where they dominate (a friction
+    // force's dense velocity block) the factors would save nothing and double them.
+    if (pencil.d1.nonZeros() - d1_linear.nonZeros() >= linear_entries) {
+      pencil.factors.reset();
+      return pencil;
+    }
+    factors.laws_d1 = PlusMapped(Eigen::SparseMatrix<double>(size, size), velocity,
+                                 cache.increasing_targets, cache.condensed_of);
     factors.laws_d2.resize(size, size);
     return pencil;
   }
@@ -439,6 +439,7 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
     pencil.d0 = with(d0_linear + FromTriplets(laws[0], size), 0, size);
     pencil.d1 = with(d1_linear + factors.laws_d1, 1, size);
     pencil.d2 = with(cache.mass, 2, size);
+    if (factors.laws_d1.nonZeros() >= linear_entries) pencil.factors.reset();
     return pencil;
   }
   // The memory's unknowns after every other (algebraic: no Δ2). With own unknowns they join
@@ -458,6 +459,9 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   pencil.d0 = with(grown(d0_linear) + FromTriplets(laws[0], total), 0, total);
   pencil.d1 = with(grown(d1_linear) + factors.laws_d1, 1, total);
   pencil.d2 = with(grown(cache.mass) + factors.laws_d2, 2, total);
+  if (factors.laws_d1.nonZeros() + factors.laws_d2.nonZeros() >= linear_entries) {
+    pencil.factors.reset();
+  }
   return pencil;
 }
 

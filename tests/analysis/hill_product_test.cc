@@ -56,15 +56,36 @@ TEST_CASE("hill product: DLFT contact with dense damping, its rows from the line
   CHECK(ProductDifference(pencil) <= kSameProduct);
 }
 
-TEST_CASE("hill product: friction's velocity Jacobian in the sparse rest") {
-  Case c = testing::ChainCase(4);
+// A chain of n DOFs with friction at its last (normal load in N), 15 coefficients per signal;
+// `dense_damping` couples every DOF.
+Case FrictionChain(int n, double normal_load, bool dense_damping) {
+  Case c = testing::ChainCase(n);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = HarmonicSet(7, false, 64);
-  c.laws.push_back(testing::Friction(3, 0.3, 0.05));
-  const HillPencil pencil = PencilOf(c, 0.9, 0.01, 7);
+  c.laws.push_back(testing::Friction(n - 1, 0.3, normal_load));
+  if (dense_damping) {
+    c.model.model.damping =
+        (Eigen::MatrixXd(c.model.model.damping) + 0.003 * Eigen::MatrixXd::Ones(n, n)).sparseView();
+  }
+  return c;
+}
+
+TEST_CASE("hill product: friction's velocity Jacobian in the sparse rest") {
+  // Four DOFs: C⊗I (240 entries), M⊗D and M⊗I outnumber the force's velocity block (15²).
+  const HillPencil pencil = PencilOf(FrictionChain(4, 0.05, true), 0.9, 0.01, 7);
   REQUIRE(pencil.factors.has_value());
   REQUIRE(pencil.factors->laws_d1.nonZeros() > 0);
   CHECK(ProductDifference(pencil) <= kSameProduct);
+}
+
+TEST_CASE("hill product: no factors where the laws' rest outnumbers the linear part") {
+  // Two DOFs (Fig. 7's shape), partly stuck: the linear parts of Δ1 and Δ2 have 4·15 + 2·14 +
+  // 2·15 = 118 entries, fewer than the friction force's velocity block (up to 15²).
+  const HillPencil pencil = PencilOf(FrictionChain(2, 0.2, false), 0.9, 0.01, 7);
+  MESSAGE("Δ1: " << pencil.d1.nonZeros() << " entries");
+  CHECK(pencil.d1.nonZeros() - 88 >= 118);  // the linear Δ1 has 88
+  CHECK_FALSE(pencil.factors.has_value());
+  CHECK(ProductDifference(pencil) == 0.0);
 }
 
 TEST_CASE("hill product: a Jenkins element's memory unknowns") {
