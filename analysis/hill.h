@@ -14,17 +14,11 @@
 
 namespace nfrc {
 
-// Hill's quadratic eigenproblem (Δ0 + sΔ1 + s²Δ2) q = 0 of a periodic solution: the
-// perturbation e^{st} p(θ), p in the solution's harmonic basis (and, for a law with memory,
-// its stick pieces' Floquet factor sampled on Chebyshev nodes, analysis/hill_memory.h). It is posed
-// on the full, uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the
-// laws' own unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
-// through Z_red(s + ikω). Rows without mass (own unknowns, massless DOFs) are algebraic.
 // Δ1 and Δ2 factored for Arnoldi's products with them (30–100 per point): Δ1 = C⊗I + 2ω M⊗D +
 // dependences + laws_d1 and Δ2 = M⊗I + dependences + laws_d2, the Kronecker products over the
-// first n·nc unknowns (n DOFs,
-// nc coefficients each, DOF-major). A product then makes two dense (nc × n)·(n × n) passes
-// instead of one sparse pass over C⊗I's entries (n²·nc of them with the rod's modal damping).
+// first n·nc unknowns (n DOFs, nc coefficients each, DOF-major). A product then makes two
+// dense (nc × n)·(n × n) passes instead of one sparse pass over C⊗I's entries (n²·nc of them
+// with the rod's modal damping).
 // A law that predicts its force from the linear rows (DLFT, LinearResidualDependence) adds
 // sign·W·Σ c·(the linear rows of a term's DOF) to Δ1's and Δ2's rows of a target block: nc rows
 // per target, each as dense as the linear rows. Its product is taken from the linear one.
@@ -40,6 +34,12 @@ struct HillFactors {
   Eigen::SparseMatrix<double> laws_d1, laws_d2;  // the rest, of the pencil's size
 };
 
+// Hill's quadratic eigenproblem (Δ0 + sΔ1 + s²Δ2) q = 0 of a periodic solution: the
+// perturbation e^{st} p(θ), p in the solution's harmonic basis (and, for a law with memory,
+// its stick pieces' Floquet factor sampled on Chebyshev nodes, analysis/hill_memory.h). It is posed
+// on the full, uncondensed model (every DOF, each flexible obstacle as a massless DOF, and the
+// laws' own unknowns), where it is linear in s: condensing the linear DOFs would make Δ depend on s
+// through Z_red(s + ikω). Rows without mass (own unknowns, massless DOFs) are algebraic.
 struct HillPencil {
   Eigen::SparseMatrix<double> d0, d1, d2;
   // Set by HillAssembler where the laws' rest of Δ1 and Δ2 has fewer entries than their

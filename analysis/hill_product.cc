@@ -7,8 +7,8 @@ namespace {
 
 // result += x·a_t, a_t = Aᵀ stored: (A ⊗ I) vec(x) = vec(x Aᵀ). Column axpys of nc entries,
 // which vectorise.
-void AddTimesTransposed(const Eigen::MatrixXd& x, const Eigen::SparseMatrix<double>& a_t,
-                        Eigen::MatrixXd* result) {
+void AddTimesTransposed(const Eigen::Ref<const Eigen::MatrixXd>& x,
+                        const Eigen::SparseMatrix<double>& a_t, Eigen::MatrixXd* result) {
   for (int j = 0; j < a_t.outerSize(); ++j) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(a_t, j); it; ++it) {
       result->col(j) += it.value() * x.col(it.row());
