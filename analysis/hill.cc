@@ -428,9 +428,8 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // dependences' rows.
   const auto with = [&](const Eigen::SparseMatrix<double>& sum, size_t k, int total) {
     if (dependent[k].size() == 0) return sum;
-    Eigen::SparseMatrix<double> grown = dependent[k];
-    grown.conservativeResize(total, total);
-    return Eigen::SparseMatrix<double>(sum + grown);
+    if (dependent[k].rows() != total) dependent[k].conservativeResize(total, total);
+    return Eigen::SparseMatrix<double>(sum + dependent[k]);
   };
   if (memory.empty()) {
     factors.laws_d1 = FromTriplets(laws[1], size);

@@ -11,6 +11,7 @@
 #include "analysis/case.h"
 #include "analysis/hill.h"
 #include "support/chain_case.h"
+#include "support/hill_pencil.h"
 
 namespace nfrc {
 namespace {
@@ -19,14 +20,6 @@ namespace {
 // ulps of the largest term (printed differences ~1e-16). 1e-13 relative allows sums of a few
 // hundred terms and is far below a missing or doubled term (O(1) here).
 constexpr double kSameProduct = 1e-13;
-
-HillPencil PencilOf(const Case& c, double omega, double perturbation, unsigned seed) {
-  auto system = BuildSystem(c);
-  Eigen::VectorXd y = system->InitialGuess(omega);
-  std::srand(seed);  // a fixed state with some samples on each side of the law's switch
-  y += perturbation * Eigen::VectorXd::Random(y.size());
-  return AssembleHillPencil(*system, y, omega);
-}
 
 // Random q and w (w zero outside the dynamic unknowns, as the operator gives it), then the
 // factored product's relative difference from d1 q + d2 w.
@@ -49,7 +42,7 @@ TEST_CASE("hill product: DLFT contact with dense damping, its rows from the line
   // Every DOF damped against every other (modal damping's pattern): C⊗I is dense per block.
   const Eigen::MatrixXd ones = Eigen::MatrixXd::Ones(4, 4);
   c.model.model.damping = (Eigen::MatrixXd(c.model.model.damping) + 0.003 * ones).sparseView();
-  const HillPencil pencil = PencilOf(c, 0.9, 0.05, 11);
+  const HillPencil pencil = testing::PencilOf(c, 0.9, 0.05, 11);
   REQUIRE(pencil.factors.has_value());
   REQUIRE_FALSE(pencil.factors->dependences.empty());
   CHECK(pencil.factors->laws_d1.nonZeros() == 0);  // DLFT's Δ1 rows are all dependences
@@ -72,7 +65,7 @@ Case FrictionChain(int n, double normal_load, bool dense_damping) {
 
 TEST_CASE("hill product: friction's velocity Jacobian in the sparse rest") {
   // Four DOFs: C⊗I (240 entries), M⊗D and M⊗I outnumber the force's velocity block (15²).
-  const HillPencil pencil = PencilOf(FrictionChain(4, 0.05, true), 0.9, 0.01, 7);
+  const HillPencil pencil = testing::PencilOf(FrictionChain(4, 0.05, true), 0.9, 0.01, 7);
   REQUIRE(pencil.factors.has_value());
   REQUIRE(pencil.factors->laws_d1.nonZeros() > 0);
   CHECK(ProductDifference(pencil) <= kSameProduct);
@@ -81,7 +74,7 @@ TEST_CASE("hill product: friction's velocity Jacobian in the sparse rest") {
 TEST_CASE("hill product: no factors where the laws' rest outnumbers the linear part") {
   // Two DOFs (Fig. 7's shape), partly stuck: the linear parts of Δ1 and Δ2 have 4·15 + 2·14 +
   // 2·15 = 118 entries, fewer than the friction force's velocity block (up to 15²).
-  const HillPencil pencil = PencilOf(FrictionChain(2, 0.2, false), 0.9, 0.01, 7);
+  const HillPencil pencil = testing::PencilOf(FrictionChain(2, 0.2, false), 0.9, 0.01, 7);
   MESSAGE("Δ1: " << pencil.d1.nonZeros() << " entries");
   CHECK(pencil.d1.nonZeros() - 88 >= 118);  // the linear Δ1 has 88
   CHECK_FALSE(pencil.factors.has_value());
@@ -98,7 +91,7 @@ TEST_CASE("hill product: a Jenkins element's memory unknowns") {
   jenkins.normal_load = 0.2;
   jenkins.stiffness = 5.0;
   c.laws.push_back(jenkins);
-  const HillPencil pencil = PencilOf(c, 0.9, 0.0, 1);
+  const HillPencil pencil = testing::PencilOf(c, 0.9, 0.0, 1);
   REQUIRE(pencil.factors.has_value());
   REQUIRE(pencil.memory_unknowns > 0);
   CHECK(ProductDifference(pencil) <= kSameProduct);
@@ -106,7 +99,7 @@ TEST_CASE("hill product: a Jenkins element's memory unknowns") {
 
 TEST_CASE("hill product: a pencil without factors is applied through d1 and d2") {
   Case c = testing::ChainAgainstRigidObstacle(HarmonicSet(5, false, 32));
-  HillPencil pencil = PencilOf(c, 0.9, 0.05, 11);
+  HillPencil pencil = testing::PencilOf(c, 0.9, 0.05, 11);
   pencil.factors.reset();
   CHECK(ProductDifference(pencil) == 0.0);
 }

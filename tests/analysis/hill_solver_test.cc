@@ -11,6 +11,7 @@
 #include "analysis/case.h"
 #include "analysis/hill.h"
 #include "support/chain_case.h"
+#include "support/hill_pencil.h"
 
 namespace nfrc {
 namespace {
@@ -38,14 +39,6 @@ double Difference(const Eigen::SparseMatrix<double>& matrix, const HillLinearSol
   return difference;
 }
 
-HillPencil PencilOf(const Case& c, double omega, double perturbation, unsigned seed) {
-  auto system = BuildSystem(c);
-  Eigen::VectorXd y = system->InitialGuess(omega);
-  std::srand(seed);  // a fixed state with some samples on each side of the law's switch
-  y += perturbation * Eigen::VectorXd::Random(y.size());
-  return AssembleHillPencil(*system, y, omega);
-}
-
 // The 4-DOF chain with friction at its last DOF, forced at its first, at ω = 0.9 with a
 // perturbed linear guess (some samples sticking, some slipping).
 HillPencil FrictionChainPencil(const HarmonicSet& harmonics) {
@@ -53,7 +46,7 @@ HillPencil FrictionChainPencil(const HarmonicSet& harmonics) {
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = harmonics;
   c.laws.push_back(testing::Friction(3, 0.3, 0.05));
-  return PencilOf(c, 0.9, 0.01, 7);
+  return testing::PencilOf(c, 0.9, 0.01, 7);
 }
 
 TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement on its force") {
@@ -82,7 +75,7 @@ TEST_CASE("hill solver: friction at 100 harmonics, a Schur complement for LAPACK
 
 TEST_CASE("hill solver: a law coupling harmonics in the displacement rows joins the Schur set") {
   const Case c = testing::ChainAgainstRigidObstacle(HarmonicSet(30, false, 128));
-  const HillPencil pencil = PencilOf(c, 0.9, 0.05, 11);
+  const HillPencil pencil = testing::PencilOf(c, 0.9, 0.05, 11);
   const Eigen::SparseMatrix<double> hill = HillAt(pencil, 0.009);
   REQUIRE(DisplacementEnd(pencil) == hill.rows());  // DLFT has no own unknowns
   // Without the harmonics, the displacement part is one block of 4·61 > kMaxBlock.
@@ -110,7 +103,7 @@ TEST_CASE("hill solver: a spring at every DOF of a long chain keeps the sparse L
     spring.coefficient = 0.5;
     c.laws.push_back(spring);
   }
-  const HillPencil pencil = PencilOf(c, 0.9, 0.3, 13);
+  const HillPencil pencil = testing::PencilOf(c, 0.9, 0.3, 13);
   const Eigen::SparseMatrix<double> hill = HillAt(pencil, 0.009);
   const HillLinearSolver solver(hill, DisplacementEnd(pencil), DisplacementHarmonics(pencil));
   REQUIRE(solver.ok());
@@ -118,7 +111,7 @@ TEST_CASE("hill solver: a spring at every DOF of a long chain keeps the sparse L
   CHECK(Difference(hill, solver) <= kSameSolution);
   // Ten springs (210 coupled rows): their coefficients form the Schur complement.
   c.laws.resize(10);
-  const HillPencil fewer = PencilOf(c, 0.9, 0.3, 13);
+  const HillPencil fewer = testing::PencilOf(c, 0.9, 0.3, 13);
   const Eigen::SparseMatrix<double> fewer_hill = HillAt(fewer, 0.009);
   const HillLinearSolver split(fewer_hill, DisplacementEnd(fewer), DisplacementHarmonics(fewer));
   REQUIRE(split.ok());
