@@ -4,14 +4,41 @@
 #include <cmath>
 #include <cstdlib>
 
-// LAPACK through OpenBLAS (Fortran calling convention; the trailing length of the character
-// argument is passed as gfortran's interface expects, and ignored by OpenBLAS's C version).
+// LAPACK through OpenBLAS. With NFRC_BLAS, Eigen's lapacke.h already declares the Fortran
+// symbols (with other const-ness), so the calls go through LAPACKE's column-major functions.
+#ifdef EIGEN_USE_LAPACKE
+namespace {
+int Getrf(int n, double* a, int* ipiv) {
+  return static_cast<int>(LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, n, n, a, n, ipiv));
+}
+int Getrs(char trans, int n, int columns, const double* a, const int* ipiv, double* b) {
+  return static_cast<int>(
+      LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, trans, n, columns, a, n, ipiv, b, n));
+}
+}  // namespace
+extern "C" void openblas_set_num_threads(int num_threads);
+#else
+// Fortran calling convention; the trailing length of the character argument is passed as
+// gfortran's interface expects, and ignored by OpenBLAS's C version.
 extern "C" {
 void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
 void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
              const int* ipiv, double* b, const int* ldb, int* info, size_t trans_length);
 void openblas_set_num_threads(int num_threads);
 }
+namespace {
+int Getrf(int n, double* a, int* ipiv) {
+  int info = 0;
+  dgetrf_(&n, &n, a, &n, ipiv, &info);
+  return info;
+}
+int Getrs(char trans, int n, int columns, const double* a, const int* ipiv, double* b) {
+  int info = 0;
+  dgetrs_(&trans, &n, &columns, a, &n, ipiv, b, &n, &info, 1);
+  return info;
+}
+}  // namespace
+#endif
 
 namespace nfrc {
 namespace {
@@ -56,8 +83,7 @@ void DenseLu::Compute(const Eigen::MatrixXd& a, bool lapack) {
   factors_ = a;
   const int n = static_cast<int>(size_);
   pivots_.resize(static_cast<size_t>(n));
-  int info = 0;
-  dgetrf_(&n, &n, factors_.data(), &n, pivots_.data(), &info);
+  [[maybe_unused]] const int info = Getrf(n, factors_.data(), pivots_.data());
   // info > 0 is an exact zero pivot (reported by Pivots()); < 0 would be a wrong argument.
   assert(info >= 0);
 }
@@ -80,9 +106,7 @@ int DenseLu::DeterminantSign() const {
 
 void DenseLu::SolveInPlace(double* b, int columns) const {
   const int n = static_cast<int>(size_);
-  const char trans = 'N';
-  int info = 0;
-  dgetrs_(&trans, &n, &columns, factors_.data(), &n, pivots_.data(), b, &n, &info, 1);
+  [[maybe_unused]] const int info = Getrs('N', n, columns, factors_.data(), pivots_.data(), b);
   assert(info == 0);
 }
 
