@@ -30,8 +30,15 @@ struct HillFactors {
   };
   Eigen::SparseMatrix<double> damping_t, mass_t;  // Cᵀ and Mᵀ (n × n)
   Eigen::SparseMatrix<double> derivative;         // D (nc × nc)
+  // A block of the laws' Δ1 rest that is nearly full (a friction force's velocity Jacobian over
+  // its DOF's harmonics), kept dense at rows and columns from (row, col) instead of in laws_d1.
+  struct DenseBlock {
+    int row = 0, col = 0;
+    Eigen::MatrixXd values;
+  };
   std::vector<RowDependence> dependences;
   Eigen::SparseMatrix<double> laws_d1, laws_d2;  // the rest, of the pencil's size
+  std::optional<DenseBlock> laws_d1_block;
 };
 
 // Hill's quadratic eigenproblem (Δ0 + sΔ1 + s²Δ2) q = 0 of a periodic solution: the

@@ -59,6 +59,11 @@ void HillProduct::Apply(const Eigen::Ref<const Eigen::VectorXd>& q,
     force_.noalias() = dependence.weights * combined_;
     for (const auto& [first, sign] : dependence.rows) y->segment(first, nc_) += sign * force_;
   }
+  if (factors.laws_d1_block) {
+    const HillFactors::DenseBlock& block = *factors.laws_d1_block;
+    y->segment(block.row, block.values.rows()).noalias() +=
+        block.values * q.segment(block.col, block.values.cols());
+  }
   if (factors.laws_d1.nonZeros() > 0) y->noalias() += factors.laws_d1 * q;
   if (factors.laws_d2.nonZeros() > 0) y->noalias() += factors.laws_d2 * w;
 }

@@ -1,7 +1,8 @@
 // HillProduct against the assembled Δ1 q + Δ2 w: the factored product (Kronecker products of
-// C and M, the DLFT law's rows taken from the linear product, the rest sparse) on a contact
-// pencil with dense damping, a friction pencil (the law's velocity Jacobian) and a Jenkins
-// pencil with memory unknowns; and a pencil without factors, applied through d1 and d2.
+// C and M, the DLFT law's rows taken from the linear product, the rest dense or sparse) on a
+// contact pencil with dense damping, friction pencils (the laws' velocity Jacobians as one
+// dense block or sparse) and a Jenkins pencil with memory unknowns; and pencils without
+// factors, applied through d1 and d2.
 #include "analysis/hill_product.h"
 
 #include <doctest/doctest.h>
@@ -49,13 +50,14 @@ TEST_CASE("hill product: DLFT contact with dense damping, its rows from the line
   CHECK(ProductDifference(pencil) <= kSameProduct);
 }
 
-// A chain of n DOFs with friction at its last (normal load in N), 15 coefficients per signal;
-// `dense_damping` couples every DOF.
-Case FrictionChain(int n, double normal_load, bool dense_damping) {
+// A chain of n DOFs with friction at each of `friction_dofs` (normal load in N), 15
+// coefficients per signal; `dense_damping` couples every DOF.
+Case FrictionChain(int n, const std::vector<int>& friction_dofs, double normal_load,
+                   bool dense_damping) {
   Case c = testing::ChainCase(n);
   c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
   c.harmonics = HarmonicSet(7, false, 64);
-  c.laws.push_back(testing::Friction(n - 1, 0.3, normal_load));
+  for (const int dof : friction_dofs) c.laws.push_back(testing::Friction(dof, 0.3, normal_load));
   if (dense_damping) {
     c.model.model.damping =
         (Eigen::MatrixXd(c.model.model.damping) + 0.003 * Eigen::MatrixXd::Ones(n, n)).sparseView();
@@ -63,20 +65,38 @@ Case FrictionChain(int n, double normal_load, bool dense_damping) {
   return c;
 }
 
-TEST_CASE("hill product: friction's velocity Jacobian in the sparse rest") {
-  // Four DOFs: C⊗I (240 entries), M⊗D and M⊗I outnumber the force's velocity block (15²).
-  const HillPencil pencil = testing::PencilOf(FrictionChain(4, 0.05, true), 0.9, 0.01, 7);
+TEST_CASE("hill product: friction's velocity block as a dense product") {
+  // Two DOFs (Fig. 7's shape), partly stuck: the force's velocity Jacobian fills most of the
+  // block of its own unknowns' rows and its DOF's columns.
+  const HillPencil pencil = testing::PencilOf(FrictionChain(2, {1}, 0.2, false), 0.9, 0.01, 7);
   REQUIRE(pencil.factors.has_value());
+  REQUIRE(pencil.factors->laws_d1_block.has_value());
+  const HillFactors::DenseBlock& block = *pencil.factors->laws_d1_block;
+  MESSAGE("block " << block.values.rows() << " x " << block.values.cols() << " at (" << block.row
+                   << ", " << block.col << ")");
+  CHECK(block.row == pencil.own_offset);
+  CHECK(block.col == 15);  // the friction DOF's coefficients
+  CHECK(pencil.factors->laws_d1.nonZeros() == 0);
+  CHECK(ProductDifference(pencil) <= kSameProduct);
+}
+
+TEST_CASE("hill product: velocity Jacobians in the sparse rest") {
+  // Friction at DOFs 1 and 3 of five: their columns are not contiguous, so no block; C⊗I (375
+  // entries), M⊗D and M⊗I outnumber the forces' velocity blocks (up to 2·15²).
+  const HillPencil pencil = testing::PencilOf(FrictionChain(5, {1, 3}, 0.05, true), 0.9, 0.01, 7);
+  REQUIRE(pencil.factors.has_value());
+  CHECK_FALSE(pencil.factors->laws_d1_block.has_value());
   REQUIRE(pencil.factors->laws_d1.nonZeros() > 0);
   CHECK(ProductDifference(pencil) <= kSameProduct);
 }
 
 TEST_CASE("hill product: no factors where the laws' rest outnumbers the linear part") {
-  // Two DOFs (Fig. 7's shape), partly stuck: the linear parts of Δ1 and Δ2 have 4·15 + 2·14 +
-  // 2·15 = 118 entries, fewer than the friction force's velocity block (up to 15²).
-  const HillPencil pencil = testing::PencilOf(FrictionChain(2, 0.2, false), 0.9, 0.01, 7);
+  // Friction at DOFs 0 and 2 of three, without dense damping, both partly stuck: two velocity
+  // blocks in columns that are not contiguous (no block), against the linear Δ1's 147 entries
+  // and Δ2's 45.
+  const HillPencil pencil = testing::PencilOf(FrictionChain(3, {0, 2}, 0.3, false), 0.9, 0.01, 7);
   MESSAGE("Δ1: " << pencil.d1.nonZeros() << " entries");
-  CHECK(pencil.d1.nonZeros() - 88 >= 118);  // the linear Δ1 has 88
+  CHECK(pencil.d1.nonZeros() - 147 > 15 * 15);  // more than one law's block
   CHECK_FALSE(pencil.factors.has_value());
   CHECK(ProductDifference(pencil) == 0.0);
 }
