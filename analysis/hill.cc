@@ -156,23 +156,48 @@ Eigen::SparseMatrix<double> FromTriplets(const Triplets& triplets, int size) {
   return matrix;
 }
 
+// Where a dense law matrix's non-zeros lie, column by column (one pass over it): the merges
+// and the block test below read only these rows.
+struct ColumnSpans {
+  std::vector<int> first, last;  // per column, its first and last non-zero row (last < first: none)
+  Eigen::Index count = 0;        // non-zeros in all
+};
+
+ColumnSpans SpansOf(const Eigen::MatrixXd& law) {
+  const int m = static_cast<int>(law.rows());
+  ColumnSpans spans;
+  spans.first.assign(static_cast<size_t>(law.cols()), 0);
+  spans.last.assign(static_cast<size_t>(law.cols()), -1);
+  for (Eigen::Index j = 0; j < law.cols(); ++j) {
+    const double* column = law.col(j).data();
+    int first = 0, last = m - 1;
+    while (first < m && column[first] == 0.0) ++first;
+    if (first == m) continue;
+    while (column[last] == 0.0) --last;
+    spans.first[static_cast<size_t>(j)] = first;
+    spans.last[static_cast<size_t>(j)] = last;
+    spans.count += (law.col(j).segment(first, last - first + 1).array() != 0.0).count();
+  }
+  return spans;
+}
+
 // linear + the condensed-layout `law` placed at rows and columns `targets` (one full index
 // per condensed unknown, increasing; `condensed` is its inverse, −1 off the map), merged
 // column by column: the same sums as adding the mapped triplets' matrix, without building and
 // sorting them (a 640 × 640 law's 400 000 entries per matrix and point at N_φ = 160).
 Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear,
-                                       const Eigen::MatrixXd& law, const std::vector<int>& targets,
+                                       const Eigen::MatrixXd& law, const ColumnSpans& spans,
+                                       const std::vector<int>& targets,
                                        const std::vector<int>& condensed) {
   assert(linear.isCompressed());
   const int size = static_cast<int>(linear.rows());
-  const int m = static_cast<int>(law.rows());
   const int* linear_outer = linear.outerIndexPtr();
   const int* linear_inner = linear.innerIndexPtr();
   const double* linear_values = linear.valuePtr();
   // Filled through the raw arrays, sized for both parts and trimmed at the end: insertBack's
   // per-entry bookkeeping made this merge 7 % of point E's curve.
   Eigen::SparseMatrix<double> result(size, size);
-  result.resizeNonZeros(linear.nonZeros() + (law.array() != 0.0).count());
+  result.resizeNonZeros(linear.nonZeros() + spans.count);
   int* outer = result.outerIndexPtr();
   int* inner = result.innerIndexPtr();
   double* values = result.valuePtr();
@@ -184,7 +209,8 @@ Eigen::SparseMatrix<double> PlusMapped(const Eigen::SparseMatrix<double>& linear
     const int j = condensed[static_cast<size_t>(col)];
     if (j >= 0) {
       const double* column = law.col(j).data();
-      for (int i = 0; i < m; ++i) {
+      const int last = spans.last[static_cast<size_t>(j)];
+      for (int i = spans.first[static_cast<size_t>(j)]; i <= last; ++i) {
         if (column[i] == 0.0) continue;
         const int row = targets[static_cast<size_t>(i)];
         for (; p < end && linear_inner[p] < row; ++p, ++k) {
@@ -252,22 +278,21 @@ constexpr double kFullBlockShare = 0.5;
 // and columns at `targets`, increasing), where their bounding box maps to contiguous full
 // rows and columns and is at least kFullBlockShare non-zero.
 std::optional<HillFactors::DenseBlock> NearlyFullBlock(const Eigen::MatrixXd& law,
+                                                       const ColumnSpans& spans,
                                                        const std::vector<int>& targets) {
-  const Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> nonzero = law.array() != 0.0;
-  const Eigen::Index count = nonzero.count();
-  if (count == 0) return std::nullopt;
-  const auto span = [](const auto& any) {
-    Eigen::Index first = 0, last = any.size() - 1;
-    while (!any(first)) ++first;
-    while (!any(last)) --last;
-    return std::pair{first, last};
-  };
-  const auto [r0, r1] = span(nonzero.rowwise().any().eval());
-  const auto [c0, c1] = span(nonzero.colwise().any().eval());
+  if (spans.count == 0) return std::nullopt;
+  Eigen::Index r0 = law.rows(), r1 = -1, c0 = law.cols(), c1 = -1;
+  for (Eigen::Index j = 0; j < law.cols(); ++j) {
+    if (spans.last[static_cast<size_t>(j)] < spans.first[static_cast<size_t>(j)]) continue;
+    c0 = std::min(c0, j);
+    c1 = j;
+    r0 = std::min<Eigen::Index>(r0, spans.first[static_cast<size_t>(j)]);
+    r1 = std::max<Eigen::Index>(r1, spans.last[static_cast<size_t>(j)]);
+  }
   const auto at = [&](Eigen::Index i) { return targets[static_cast<size_t>(i)]; };
   if (at(r1) - at(r0) != r1 - r0 || at(c1) - at(c0) != c1 - c0) return std::nullopt;
   const Eigen::Index rows = r1 - r0 + 1, cols = c1 - c0 + 1;
-  if (static_cast<double>(count) < kFullBlockShare * static_cast<double>(rows * cols)) {
+  if (static_cast<double>(spans.count) < kFullBlockShare * static_cast<double>(rows * cols)) {
     return std::nullopt;
   }
   return HillFactors::DenseBlock{at(r0), at(c0), law.block(r0, c0, rows, cols)};
@@ -490,12 +515,15 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // parts): the factors are kept only where the laws' rest of Δ1 and Δ2 has fewer.
   const Eigen::Index linear_entries = d1_linear.nonZeros() + cache.mass.nonZeros();
   if (only_jacobians) {
-    pencil.d0 = PlusMapped(d0_linear, jacobian, cache.increasing_targets, cache.condensed_of);
-    pencil.d1 = PlusMapped(d1_linear, velocity, cache.increasing_targets, cache.condensed_of);
+    const ColumnSpans velocity_spans = SpansOf(velocity);
+    pencil.d0 = PlusMapped(d0_linear, jacobian, SpansOf(jacobian), cache.increasing_targets,
+                           cache.condensed_of);
+    pencil.d1 = PlusMapped(d1_linear, velocity, velocity_spans, cache.increasing_targets,
+                           cache.condensed_of);
     pencil.d2 = cache.mass;
     factors.laws_d2.resize(size, size);
     // A friction force's velocity block: a dense product (a third of the sparse one's time).
-    if (auto block = NearlyFullBlock(velocity, cache.increasing_targets)) {
+    if (auto block = NearlyFullBlock(velocity, velocity_spans, cache.increasing_targets)) {
       factors.laws_d1.resize(size, size);
       factors.laws_d1_block = std::move(block);
       return pencil;
@@ -506,7 +534,7 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
       pencil.factors.reset();
       return pencil;
     }
-    factors.laws_d1 = PlusMapped(Eigen::SparseMatrix<double>(size, size), velocity,
+    factors.laws_d1 = PlusMapped(Eigen::SparseMatrix<double>(size, size), velocity, velocity_spans,
                                  cache.increasing_targets, cache.condensed_of);
     return pencil;
   }
