@@ -166,20 +166,29 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     block.eliminated = nc > 0 ? Eigen::MatrixXd(block.lu.solve(coupling)) : coupling;
     collect(from_own[k], &block.own_rows);
     const int nrows = static_cast<int>(block.own_rows.size());
-    block.rows = Eigen::MatrixXd::Zero(nrows, nb);
+    std::vector<int> column_of(static_cast<size_t>(nb), -1);
     for (const Coupling& e : from_own[k]) {
-      block.rows(slot[static_cast<size_t>(e.own)], e.position) = e.value;
+      if (column_of[static_cast<size_t>(e.position)] >= 0) continue;
+      column_of[static_cast<size_t>(e.position)] = static_cast<int>(block.row_positions.size());
+      block.row_positions.push_back(e.position);
+    }
+    block.rows =
+        Eigen::MatrixXd::Zero(nrows, static_cast<Eigen::Index>(block.row_positions.size()));
+    for (const Coupling& e : from_own[k]) {
+      block.rows(slot[static_cast<size_t>(e.own)], column_of[static_cast<size_t>(e.position)]) =
+          e.value;
     }
     release(block.own_rows);
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
     if (nrows > 0 && nc > 0) {
-      const Eigen::MatrixXd update = block.rows * block.eliminated;
+      const Eigen::MatrixXd update = block.rows * block.eliminated(block.row_positions, Eigen::all);
       schur(block.own_rows, block.own_columns) -= update;
     }
     block.local.resize(nb);
     block.solution.resize(nb);
     block.row_work.resize(nrows);
     block.column_work.resize(nc);
+    block.reaching.resize(static_cast<Eigen::Index>(block.row_positions.size()));
   }
   if (nr > 0) schur_lu_.Compute(schur);
   schur_rhs_.resize(nr);
@@ -199,7 +208,10 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
     for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
     block.solution = block.lu.solve(block.local);
     if (block.own_rows.empty()) continue;
-    block.row_work.noalias() = block.rows * block.solution;
+    for (size_t c = 0; c < block.row_positions.size(); ++c) {
+      block.reaching(static_cast<Eigen::Index>(c)) = block.solution(block.row_positions[c]);
+    }
+    block.row_work.noalias() = block.rows * block.reaching;
     for (size_t r = 0; r < block.own_rows.size(); ++r) {
       schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));
     }

@@ -50,9 +50,12 @@ class HillLinearSolver {
     std::vector<int> own_columns;             // Schur positions p with H(B, p) ≠ 0
     std::vector<int> own_rows;                // Schur positions p with H(p, B) ≠ 0
     Eigen::MatrixXd eliminated;               // H(B, B)⁻¹ H(B, own_columns)
-    Eigen::MatrixXd rows;                     // H(own_rows, B)
-    // Work vectors of Solve (block, own_rows and own_columns sized).
-    mutable Eigen::VectorXd local, solution, row_work, column_work;
+    // The block's positions whose columns reach own rows (friction: its DOF's, not the
+    // others'), and H(own_rows, those columns): the zero columns are left out.
+    std::vector<int> row_positions;
+    Eigen::MatrixXd rows;
+    // Work vectors of Solve (block, own_rows, own_columns and row_positions sized).
+    mutable Eigen::VectorXd local, solution, row_work, column_work, reaching;
   };
 
   // The Schur complement's unknowns: the own ones and the displacement rows that reach
