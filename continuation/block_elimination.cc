@@ -149,7 +149,8 @@ std::optional<BlockElimination> BlockElimination::Factor(const Matrix& a,
   return result;
 }
 
-bool BlockElimination::SameBlockRows(const Eigen::MatrixXd& a) const {
+template <typename Matrix>
+bool BlockElimination::SameBlockRows(const Matrix& a) const {
   if (a.rows() != size_) return false;
   const int num_rest = static_cast<int>(rest_.size());
   for (const Block& block : blocks_) {
@@ -284,5 +285,7 @@ template void BlockElimination::Reduce(const Eigen::MatrixXd&, const Eigen::Vect
 template void BlockElimination::Reduce(const BorderedView&, const Eigen::VectorXd&,
                                        const Eigen::VectorXd&, Eigen::MatrixXd*, Eigen::VectorXd*,
                                        Eigen::MatrixXd*) const;
+template bool BlockElimination::SameBlockRows(const Eigen::MatrixXd&) const;
+template bool BlockElimination::SameBlockRows(const BorderedView&) const;
 
 }  // namespace nfrc

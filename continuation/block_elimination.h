@@ -56,7 +56,8 @@ class BlockElimination {
   // The product of the blocks' determinant signs.
   int determinant_sign() const { return sign_; }
   // True when a's blocks' rows are those factorised (bitwise), so that Reduce applies.
-  bool SameBlockRows(const Eigen::MatrixXd& a) const;
+  template <typename Matrix>
+  bool SameBlockRows(const Matrix& a) const;
   // A_BB⁻¹ b_B of every block, one after the other (for Reduce and BackSubstitute).
   Eigen::VectorXd BlockSolutions(const Eigen::VectorXd& b) const;
   // S = A_rr − A_rB A_BB⁻¹ A_B,rest and its right-hand side b_r − A_rB A_BB⁻¹ b_B.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "continuation/bordered_view.h"
+
 namespace nfrc {
 
 bool ReusedFactorization::Refactor(const Eigen::MatrixXd& schur, const Eigen::VectorXd& rhs,
@@ -47,8 +49,8 @@ bool ReusedFactorization::LowRank(const Eigen::MatrixXd& delta, int max_rank, Ei
   return true;
 }
 
-bool ReusedFactorization::Solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-                                Eigen::VectorXd* x) {
+template <typename Matrix>
+bool ReusedFactorization::Solve(const Matrix& a, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
   const bool kept = elimination_ && elimination_->SameBlockRows(a);
   if (!kept) {
     elimination_ = BlockElimination::Factor(a, blocks_);
@@ -88,5 +90,10 @@ bool ReusedFactorization::Update(const Eigen::MatrixXd& schur, const Eigen::Vect
   counts_.largest_rank = std::max(counts_.largest_rank, k);
   return true;
 }
+
+template bool ReusedFactorization::Solve(const Eigen::MatrixXd&, const Eigen::VectorXd&,
+                                         Eigen::VectorXd*);
+template bool ReusedFactorization::Solve(const BorderedView&, const Eigen::VectorXd&,
+                                         Eigen::VectorXd*);
 
 }  // namespace nfrc

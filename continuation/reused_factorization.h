@@ -40,8 +40,10 @@ class ReusedFactorization {
   explicit ReusedFactorization(EliminationBlocks blocks) : blocks_(std::move(blocks)) {}
 
   // Solves a x = b; false where the elimination does not apply (a numerically singular block
-  // or S: the caller then solves by SolveAugmented).
-  bool Solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+  // or S: the caller then solves by SolveAugmented). Matrix: Eigen::MatrixXd or BorderedView
+  // (the bordered matrix read in place).
+  template <typename Matrix>
+  bool Solve(const Matrix& a, const Eigen::VectorXd& b, Eigen::VectorXd* x);
   const Counts& counts() const { return counts_; }
 
  private:
