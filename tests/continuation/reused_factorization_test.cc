@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <optional>
 
+#include "continuation/bordered_view.h"
+
 namespace nfrc {
 namespace {
 
@@ -88,6 +90,42 @@ TEST_CASE("reused factorisation: low-rank changes of the laws' rows are updates 
     REQUIRE(solver.Solve(a, b, &x));
     CHECK(RelativeError(x, a.partialPivLu().solve(b)) < kSameSolution);
     CHECK(solver.counts().factorisations == 1);
+  }
+}
+
+// The fixed-λ corrector's use: the scaled bordered matrix of a Jacobian with R_λ's column
+// zero and the border row e_n, read in place, against its materialised copy. The view's
+// entries are the copy's, rounded alike, so both solvers do the same arithmetic: their
+// solutions agree bit for bit, through a first factorisation and a low-rank update.
+TEST_CASE("reused factorisation: the bordered matrix read in place solves as its copy") {
+  constexpr int kBlocks = 40, kRest = 81;
+  std::srand(17);
+  EliminationBlocks blocks;
+  const Eigen::MatrixXd a = BlockMatrix(kBlocks, kRest, &blocks);
+  const Eigen::Index n = a.rows() - 1;  // the last unknown is the border's λ
+  Eigen::MatrixXd jacobian = a.topLeftCorner(n, n);
+  const Eigen::VectorXd zero_lambda = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd scales = (Eigen::VectorXd::Random(n + 1).array() + 1.5).matrix();
+  const Eigen::VectorXd border = Eigen::VectorXd::Unit(n + 1, n);
+  constexpr double kResidualScale = 2.5;
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(n + 1);
+  ReusedFactorization in_place(blocks), copied(blocks);
+  for (int round = 0; round < 2; ++round) {
+    CAPTURE(round);
+    if (round == 1) {  // the laws' rows change by rank 2: an update in both
+      jacobian.bottomRows(kRest - 1) +=
+          0.3 * Eigen::MatrixXd::Random(kRest - 1, 2) * Eigen::MatrixXd::Random(2, n);
+    }
+    const BorderedView view(jacobian, zero_lambda, scales, kResidualScale, border);
+    Eigen::MatrixXd copy;
+    view.Materialize(&copy);
+    Eigen::VectorXd x_view, x_copy;
+    REQUIRE(in_place.Solve(view, b, &x_view));
+    REQUIRE(copied.Solve(copy, b, &x_copy));
+    CHECK(x_view == x_copy);
+    CHECK(RelativeError(x_view, copy.partialPivLu().solve(b)) < kSameSolution);
+    CHECK(in_place.counts().factorisations == 1);
+    CHECK(in_place.counts().updates == round);
   }
 }
 
