@@ -50,7 +50,8 @@ struct HillFactors {
 struct HillPencil {
   Eigen::SparseMatrix<double> d0, d1, d2;
   // Set by HillAssembler where the laws' rest of Δ1 and Δ2 has fewer entries than their
-  // linear parts (HillProduct uses them); a pencil without them is applied through d1 and d2.
+  // linear parts, or is one nearly full block (HillProduct uses them); a pencil without them
+  // is applied through d1 and d2.
   std::optional<HillFactors> factors;
   HarmonicSet set{1, false};
   double omega = 1.0;
