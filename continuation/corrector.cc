@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "continuation/augmented_system.h"
 #include "continuation/reused_factorization.h"
@@ -28,6 +29,16 @@ constexpr double kStallRatio = 0.5;
 // left after the second is estimated, ‖u_{k+1} − u*‖ ≲ θ‖Δu_k‖/(1 − θ) (the later updates as a
 // geometric series); above it Newton is not in its fast region and the estimate means nothing.
 constexpr double kMaxContraction = 0.25;
+// On the arclength a correction whose line search cut every step of the last
+// kStagnationWindow iterations while the merit fell by less than kStagnationRatio over them,
+// from iteration kStagnationStart on, fails at once: it is crawling at a kink (point E's
+// failed corrections took steps of 2⁻² to 2⁻¹² for ten iterations and more), and the
+// caller's fallbacks (a step at fixed λ, a shorter step) converge in a few iterations where
+// the crawl ran to max_iterations nearly every time. Fixed-λ solves have no fallback and keep
+// crawling.
+constexpr int kStagnationStart = 6;
+constexpr int kStagnationWindow = 3;
+constexpr double kStagnationRatio = 0.5;
 
 enum class Constraint { kArclength, kFixedLambda };
 
@@ -100,6 +111,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   double watchdog_merit = 0.0;
   int watchdog_deadline = 0;
   double previous_full_update = -1.0;  // ‖Δu‖ of the last iteration if taken in full, else < 0
+  std::vector<double> merits{merit};   // the merit after each iteration, from the start's
+  int damped_run = 0;                  // iterations in a row whose step the line search cut
   for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -result.linearization.residual / r;
@@ -190,6 +203,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
     std::swap(result.linearization, trial_linearization);
     result.residual_norm = result.linearization.residual.norm();
     merit = trial_merit;
+    merits.push_back(merit);
+    damped_run = alpha < 1.0 ? damped_run + 1 : 0;
     if (watching && iteration != watchdog_deadline - kWatchdogIterations) {
       if (merit < watchdog_merit) {
         watching = false;
@@ -224,6 +239,13 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
         result.noise_floor = noise;
         return Converged(std::move(result), constraint, std::move(solver), solver_solved);
       }
+    }
+    if (constraint == Constraint::kArclength && !watching && !residual_small &&
+        iteration >= kStagnationStart && damped_run >= kStagnationWindow &&
+        merit > kStagnationRatio * merits[iteration - kStagnationWindow]) {
+      return Fail(std::move(result),
+                  "stagnating: damped steps cut the merit by less than half in " +
+                      std::to_string(kStagnationWindow) + " iterations");
     }
   }
   return Fail(std::move(result),

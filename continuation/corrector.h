@@ -52,6 +52,9 @@ inline constexpr double kNoiseFactor = 10.0;
 
 // Pseudo-arclength corrector: Newton on R(u) = 0, τᵀ D⁻¹(u − u_pred) = 0 from u_pred, with
 // τ the unit scaled tangent, each step solving the whole scaled bordered system by one LU.
+// Unlike CorrectAtFixedLambda it gives up early ("stagnating") where the line search has
+// cut every step of three iterations and the merit fell by less than half over them: the
+// caller has fallbacks (a fixed-λ step, a shorter step) that beat such a crawl.
 CorrectorResult CorrectOnArclength(Evaluator& evaluator, const Scaling& scaling,
                                    const NewtonSettings& settings, const Eigen::VectorXd& u_pred,
                                    const Eigen::VectorXd& tangent_scaled);

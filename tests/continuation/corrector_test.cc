@@ -243,6 +243,81 @@ TEST_CASE("corrector: linear convergence takes the confirming iteration") {
   CHECK(std::abs(result.u(0)) <= settings.update_tolerance);
 }
 
+// R = y with a wrong derivative, as a sampled law's generalised derivative can be across a
+// switch. Reported 121.6 times too small, each Newton step overshoots 121.6-fold, the line
+// search takes 1/64 of it (1/32 would triple |R|) and |R| falls by only 10 % per iteration;
+// reported 10 times too large, each full step is taken and |R| falls by 10 % too.
+class MisledProblem : public ContinuationProblem {
+ public:
+  explicit MisledProblem(double derivative) : derivative_(derivative) {}
+  int NumUnknowns() const override { return 1; }
+  bool Evaluate(const Eigen::VectorXd& y, double /*lambda*/, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    (*residual)(0) = y(0);
+    if (jacobian_y != nullptr) (*jacobian_y)(0, 0) = derivative_;
+    if (jacobian_lambda != nullptr) (*jacobian_lambda)(0) = 0.0;
+    return true;
+  }
+
+ private:
+  double derivative_;
+};
+
+constexpr double kUnderstatement = 121.6;
+// The iteration from which a crawl on the arclength is cut (kStagnationStart in corrector.cc):
+// with the merit falling by 10 % per iteration, the sixth is not half of the third.
+constexpr int kStagnationStart = 6;
+
+TEST_CASE("corrector: a crawling arclength correction fails early, a fixed-lambda one goes on") {
+  MisledProblem problem(1.0 / kUnderstatement);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = 40;
+  // The tangent along λ: the arclength row pins λ, as at fixed λ.
+  Evaluator on_arclength(problem);
+  const CorrectorResult cut = CorrectOnArclength(on_arclength, UnitScaling(1), settings,
+                                                 Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0, 1));
+  CHECK_FALSE(cut.converged);
+  CHECK(cut.failure.rfind("stagnating", 0) == 0);
+  CHECK(cut.iterations == kStagnationStart);
+  CHECK(cut.u(0) == Near(std::pow(1.0 - kUnderstatement / 64.0, kStagnationStart)));
+
+  // At fixed λ there is no fallback: the crawl goes on (0.9⁴⁰ ≈ 1.5e-2, not converged).
+  Evaluator at_fixed_lambda(problem);
+  const CorrectorResult crawled =
+      CorrectAtFixedLambda(at_fixed_lambda, UnitScaling(1), settings, Eigen::Vector2d(1.0, 0.0));
+  CHECK_FALSE(crawled.converged);
+  CHECK(crawled.iterations == settings.max_iterations);
+}
+
+TEST_CASE("corrector: slow full steps on the arclength are not cut as a crawl") {
+  MisledProblem problem(10.0);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = 40;
+  Evaluator evaluator(problem);
+  const CorrectorResult result = CorrectOnArclength(
+      evaluator, UnitScaling(1), settings, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0, 1));
+  CHECK_FALSE(result.converged);
+  CHECK(result.iterations == settings.max_iterations);
+  CHECK(result.u(0) == Near(std::pow(0.9, settings.max_iterations)));
+}
+
+TEST_CASE("corrector: a slow but steady arclength correction is not cut") {
+  SquareProblem problem;
+  Evaluator evaluator(problem);
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = 60;
+  // The row pins λ = 0, where the root is double: the merit y² falls by 4 per iteration, ~20
+  // of them to the update tolerance.
+  const CorrectorResult result = CorrectOnArclength(
+      evaluator, UnitScaling(1), settings, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0, 1));
+  REQUIRE(result.converged);
+  CHECK(result.iterations > 2 * kStagnationStart);
+  CHECK(std::abs(result.u(0)) <= settings.update_tolerance);
+}
+
 TEST_CASE("corrector: fixed lambda keeps lambda exactly") {
   CubicProblem problem;
   Evaluator evaluator(problem);
