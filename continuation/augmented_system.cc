@@ -78,15 +78,18 @@ bool AugmentedSolver::Factorize(const Eigen::MatrixXd& a, const Eigen::VectorXd&
 template <typename Matrix>
 bool AugmentedSolver::Eliminate(const Matrix& a, const Eigen::VectorXd& b, Eigen::VectorXd* x,
                                 const EliminationBlocks& elimination) {
-  elimination_ = BlockElimination::Factor(a, elimination);
-  if (!elimination_) return false;
-  Eigen::MatrixXd schur;
-  Eigen::VectorXd schur_rhs;
+  // Refactored in place: within one correction the blocks keep their sizes, so the
+  // iterations after the first allocate nothing here.
+  if (!elimination_) elimination_.emplace();
+  if (!elimination_->Refactor(a, elimination)) {
+    elimination_.reset();
+    return false;
+  }
   const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
-  elimination_->Reduce(a, b, block_solutions, &schur, &schur_rhs, &rest_columns_);
-  lu_.Compute(schur);
+  elimination_->Reduce(a, b, block_solutions, &schur_, &schur_rhs_, &rest_columns_);
+  lu_.Compute(schur_);
   if (!RegularForElimination(lu_)) return false;
-  elimination_->BackSubstitute(block_solutions, lu_.Solve(schur_rhs), x);
+  elimination_->BackSubstitute(block_solutions, lu_.Solve(schur_rhs_), x);
   if (!x->allFinite()) return false;
   kind_ = Kind::kEliminated;
   sign_ = elimination_->determinant_sign() * lu_.DeterminantSign();

@@ -75,6 +75,8 @@ class AugmentedSolver {
   Kind kind_ = Kind::kNone;
   std::optional<BlockElimination> elimination_;  // kEliminated: the blocks' part
   Eigen::MatrixXd rest_columns_;                 // kEliminated: A_rest,B (ReduceRhs)
+  Eigen::MatrixXd schur_;                        // Eliminate's work: the Schur complement
+  Eigen::VectorXd schur_rhs_;                    // and its right-hand side
   Eigen::VectorXd last_row_;
   DenseLu lu_;                              // of the Schur complement, or of a (kRegular)
   Eigen::FullPivLU<Eigen::MatrixXd> full_;  // kFullPivoting

@@ -82,47 +82,52 @@ template <typename Matrix>
 std::optional<BlockElimination> BlockElimination::Factor(const Matrix& a,
                                                          const EliminationBlocks& blocks) {
   BlockElimination result;
+  if (!result.Refactor(a, blocks)) return std::nullopt;
+  return result;
+}
+
+template <typename Matrix>
+bool BlockElimination::Refactor(const Matrix& a, const EliminationBlocks& blocks) {
   const int size = static_cast<int>(a.rows());
-  result.size_ = size;
-  std::vector<int> block_of(static_cast<size_t>(size), -1);
+  size_ = size;
+  sign_ = 1;
+  block_of_.assign(static_cast<size_t>(size), -1);
   for (size_t k = 0; k < blocks.size(); ++k) {
-    for (const int i : blocks[k]) block_of[static_cast<size_t>(i)] = static_cast<int>(k);
+    for (const int i : blocks[k]) block_of_[static_cast<size_t>(i)] = static_cast<int>(k);
   }
+  rest_.clear();
+  block_rows_.clear();
   for (int i = 0; i < size; ++i) {
-    if (block_of[static_cast<size_t>(i)] < 0) result.rest_.push_back(i);
-  }
-  std::vector<int> block_rows;
-  for (int row = 0; row < size; ++row) {
-    if (block_of[static_cast<size_t>(row)] >= 0) block_rows.push_back(row);
+    (block_of_[static_cast<size_t>(i)] < 0 ? rest_ : block_rows_).push_back(i);
   }
   // Down each block's column (the storage's order), in the blocks' rows only: the rest's
   // rows of a block column (A_rest,B) may hold anything.
   for (int col = 0; col < size; ++col) {
-    const int other = block_of[static_cast<size_t>(col)];
+    const int other = block_of_[static_cast<size_t>(col)];
     if (other < 0) continue;
-    ForEachNonzeroBlockRow(a, col, block_rows, [&](int row) {
-      const int block = block_of[static_cast<size_t>(row)];
+    ForEachNonzeroBlockRow(a, col, block_rows_, [&](int row) {
+      const int block = block_of_[static_cast<size_t>(row)];
       if (other != block) {
         throw std::logic_error("SolveEliminating: blocks " + std::to_string(block) + " and " +
                                std::to_string(other) + " are coupled");
       }
     });
   }
-  const std::vector<int>& rest = result.rest_;
-  const int num_rest = static_cast<int>(rest.size());
-  result.rest_run_ = num_rest > 0 && rest.back() - rest.front() + 1 == num_rest;
-  result.blocks_.resize(blocks.size());
+  const int num_rest = static_cast<int>(rest_.size());
+  rest_run_ = num_rest > 0 && rest_.back() - rest_.front() + 1 == num_rest;
+  blocks_.resize(blocks.size());
+  for (Block& block : blocks_) block.coupled.clear();
   // Each block's coupled rest columns, found down the columns (the storage's order; along
   // the blocks' rows it was a strided read per entry), in increasing order.
   for (int j = 0; j < num_rest; ++j) {
-    ForEachNonzeroBlockRow(a, rest[static_cast<size_t>(j)], block_rows, [&](int row) {
+    ForEachNonzeroBlockRow(a, rest_[static_cast<size_t>(j)], block_rows_, [&](int row) {
       std::vector<int>& coupled =
-          result.blocks_[static_cast<size_t>(block_of[static_cast<size_t>(row)])].coupled;
+          blocks_[static_cast<size_t>(block_of_[static_cast<size_t>(row)])].coupled;
       if (coupled.empty() || coupled.back() != j) coupled.push_back(j);
     });
   }
   for (size_t k = 0; k < blocks.size(); ++k) {
-    Block& block = result.blocks_[k];
+    Block& block = blocks_[k];
     block.unknowns = blocks[k];
     const int nb = static_cast<int>(block.unknowns.size());
     block.matrix.resize(nb, nb);
@@ -130,23 +135,24 @@ std::optional<BlockElimination> BlockElimination::Factor(const Matrix& a,
       for (int i = 0; i < nb; ++i) block.matrix(i, j) = a(block.unknowns[i], block.unknowns[j]);
     }
     block.lu.compute(block.matrix);
-    if (!RegularForElimination(block.lu)) return std::nullopt;
-    result.sign_ *= DeterminantSign(block.lu);
+    if (!RegularForElimination(block.lu)) return false;
+    sign_ *= DeterminantSign(block.lu);
     const int nc = static_cast<int>(block.coupled.size());
     block.coupling.resize(nb, nc);
     for (int c = 0; c < nc; ++c) {
       for (int i = 0; i < nb; ++i) {
-        block.coupling(i, c) = a(block.unknowns[i], rest[static_cast<size_t>(block.coupled[c])]);
+        block.coupling(i, c) = a(block.unknowns[i], rest_[static_cast<size_t>(block.coupled[c])]);
       }
     }
     // Solved with a last column for b_B, zero here (BlockSolutions solves with it): a
     // solve's rounding depends on the shape of its right-hand side, and this one's keeps
     // the solutions bit for bit those of the joint solve [A_B,coupled b_B] that it replaced.
-    Eigen::MatrixXd right = Eigen::MatrixXd::Zero(nb, nc + 1);
-    right.leftCols(nc) = block.coupling;
-    block.eliminated = block.lu.solve(right).leftCols(nc);
+    right_.setZero(nb, nc + 1);
+    right_.leftCols(nc) = block.coupling;
+    block.eliminated.resize(nb, nc);
+    block.eliminated = block.lu.solve(right_).leftCols(nc);
   }
-  return result;
+  return true;
 }
 
 template <typename Matrix>
@@ -279,6 +285,8 @@ template std::optional<BlockElimination> BlockElimination::Factor(const Eigen::M
                                                                   const EliminationBlocks&);
 template std::optional<BlockElimination> BlockElimination::Factor(const BorderedView&,
                                                                   const EliminationBlocks&);
+template bool BlockElimination::Refactor(const Eigen::MatrixXd&, const EliminationBlocks&);
+template bool BlockElimination::Refactor(const BorderedView&, const EliminationBlocks&);
 template void BlockElimination::Reduce(const Eigen::MatrixXd&, const Eigen::VectorXd&,
                                        const Eigen::VectorXd&, Eigen::MatrixXd*, Eigen::VectorXd*,
                                        Eigen::MatrixXd*) const;

@@ -50,6 +50,11 @@ class BlockElimination {
   // Matrix: Eigen::MatrixXd or BorderedView (the bordered matrix read in place).
   template <typename Matrix>
   static std::optional<BlockElimination> Factor(const Matrix& a, const EliminationBlocks& blocks);
+  // Factor into this object, reusing its storage (a Newton iteration's blocks have the sizes
+  // of the last one's: no allocation then). False where Factor gives nullopt; this object is
+  // then unusable until a Refactor succeeds.
+  template <typename Matrix>
+  bool Refactor(const Matrix& a, const EliminationBlocks& blocks);
 
   // The unknowns kept, ascending: the Schur complement's order.
   const std::vector<int>& rest() const { return rest_; }
@@ -96,6 +101,11 @@ class BlockElimination {
   bool rest_run_ = false;
   std::vector<Block> blocks_;
   int sign_ = 1;
+  // Refactor's work: each unknown's block (−1: the rest's), the blocks' rows ascending, and
+  // a block's coupling with a last zero column.
+  std::vector<int> block_of_;
+  std::vector<int> block_rows_;
+  Eigen::MatrixXd right_;
 };
 
 }  // namespace nfrc

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 namespace nfrc {
@@ -86,6 +88,41 @@ TEST_CASE("block elimination: coupled blocks are a broken promise, singular ones
   singular.row(2).setZero();  // block {2, 6}'s first row: the block is singular
   singular.row(2)(6) = 0.0;
   CHECK_FALSE(SolveEliminating(singular, b, blocks, &x));
+}
+
+// The elimination's whole solve: blocks, Schur complement, back substitution.
+Eigen::VectorXd SolveWith(const BlockElimination& elimination, const Eigen::MatrixXd& a,
+                          const Eigen::VectorXd& b) {
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd schur_rhs, x;
+  const Eigen::VectorXd block_solutions = elimination.BlockSolutions(b);
+  elimination.Reduce(a, b, block_solutions, &schur, &schur_rhs);
+  elimination.BackSubstitute(block_solutions, schur.fullPivLu().solve(schur_rhs), &x);
+  return x;
+}
+
+// Refactor reuses one object's storage across matrices (the Newton iterations of one
+// correction): each result must be a fresh Factor's, bit for bit, whether the next matrix
+// has the last one's structure, another one, or follows a singular block.
+TEST_CASE("block elimination: refactored in place, bit for bit a fresh factorisation") {
+  BlockElimination reused;
+  for (const auto& [m, rest, seed] :
+       {std::tuple{5, 10, 1u}, {5, 10, 2u}, {8, 12, 3u}, {8, 12, 0u}, {2, 30, 4u}, {5, 10, 1u}}) {
+    INFO(m << " blocks, " << rest << " other unknowns, seed " << seed);
+    EliminationBlocks blocks;
+    Eigen::MatrixXd a = BlockMatrix(m, rest, seed == 0 ? 9u : seed, &blocks);
+    if (seed == 0) a.row(0).setZero();  // block {0, m} singular: both decline
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(a.rows());
+    const std::optional<BlockElimination> fresh = BlockElimination::Factor(a, blocks);
+    const bool refactored = reused.Refactor(a, blocks);
+    REQUIRE(refactored == fresh.has_value());
+    if (!refactored) continue;
+    CHECK(reused.rest() == fresh->rest());
+    CHECK(reused.determinant_sign() == fresh->determinant_sign());
+    const Eigen::VectorXd x = SolveWith(reused, a, b);
+    CHECK(x == SolveWith(*fresh, a, b));
+    CHECK((a * x - b).norm() <= kSameSolution * b.norm());
+  }
 }
 
 // The same systems with their unknowns reordered (rows and columns alike): the blocks' rows
