@@ -81,10 +81,7 @@ bool AugmentedSolver::Eliminate(const Matrix& a, const Eigen::VectorXd& b, Eigen
   // Refactored in place: within one correction the blocks keep their sizes, so the
   // iterations after the first allocate nothing here.
   if (!elimination_) elimination_.emplace();
-  if (!elimination_->Refactor(a, elimination)) {
-    elimination_.reset();
-    return false;
-  }
+  if (!elimination_->Refactor(a, elimination)) return false;
   const Eigen::VectorXd block_solutions = elimination_->BlockSolutions(b);
   elimination_->Reduce(a, b, block_solutions, &schur_, &schur_rhs_, &rest_columns_);
   lu_.Compute(schur_);

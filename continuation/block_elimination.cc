@@ -135,7 +135,10 @@ bool BlockElimination::Refactor(const Matrix& a, const EliminationBlocks& blocks
       for (int i = 0; i < nb; ++i) block.matrix(i, j) = a(block.unknowns[i], block.unknowns[j]);
     }
     block.lu.compute(block.matrix);
-    if (!RegularForElimination(block.lu)) return false;
+    if (!RegularForElimination(block.lu)) {
+      size_ = 0;  // matches no matrix (SameBlockRows) until a Refactor succeeds
+      return false;
+    }
     sign_ *= DeterminantSign(block.lu);
     const int nc = static_cast<int>(block.coupled.size());
     block.coupling.resize(nb, nc);
@@ -149,7 +152,6 @@ bool BlockElimination::Refactor(const Matrix& a, const EliminationBlocks& blocks
     // the solutions bit for bit those of the joint solve [A_B,coupled b_B] that it replaced.
     right_.setZero(nb, nc + 1);
     right_.leftCols(nc) = block.coupling;
-    block.eliminated.resize(nb, nc);
     block.eliminated = block.lu.solve(right_).leftCols(nc);
   }
   return true;

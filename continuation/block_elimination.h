@@ -51,8 +51,8 @@ class BlockElimination {
   template <typename Matrix>
   static std::optional<BlockElimination> Factor(const Matrix& a, const EliminationBlocks& blocks);
   // Factor into this object, reusing its storage (a Newton iteration's blocks have the sizes
-  // of the last one's: no allocation then). False where Factor gives nullopt; this object is
-  // then unusable until a Refactor succeeds.
+  // of the last one's: no allocation then). False where Factor gives nullopt; this object
+  // then matches no matrix (SameBlockRows) and must not be used until a Refactor succeeds.
   template <typename Matrix>
   bool Refactor(const Matrix& a, const EliminationBlocks& blocks);
 

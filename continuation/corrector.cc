@@ -112,7 +112,8 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   int watchdog_deadline = 0;
   double previous_full_update = -1.0;  // ‖Δu‖ of the last iteration if taken in full, else < 0
   std::vector<double> merits{merit};   // the merit after each iteration, from the start's
-  int damped_run = 0;                  // iterations in a row whose step the line search cut
+  merits.reserve(static_cast<size_t>(settings.max_iterations) + 1);
+  int damped_run = 0;  // iterations in a row whose step the line search cut
   for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -result.linearization.residual / r;

@@ -35,6 +35,15 @@ class ArctanProblem : public ContinuationProblem {
   }
 };
 
+// Newton settings for the one-unknown problems below, whose residuals are O(1): residual
+// scale 1 and the given cap on iterations.
+NewtonSettings UnitSettings(int max_iterations) {
+  NewtonSettings settings;
+  settings.residual_scale = 1.0;
+  settings.max_iterations = max_iterations;
+  return settings;
+}
+
 Scaling UnitScaling(int n) {
   Scaling scaling(std::vector<int>(n, 0), 1.0, 1e-6);
   scaling.Include(Eigen::VectorXd::Ones(n));
@@ -270,9 +279,7 @@ constexpr int kStagnationStart = 6;
 
 TEST_CASE("corrector: a crawling arclength correction fails early, a fixed-lambda one goes on") {
   MisledProblem problem(1.0 / kUnderstatement);
-  NewtonSettings settings;
-  settings.residual_scale = 1.0;
-  settings.max_iterations = 40;
+  const NewtonSettings settings = UnitSettings(40);
   // The tangent along λ: the arclength row pins λ, as at fixed λ.
   Evaluator on_arclength(problem);
   const CorrectorResult cut = CorrectOnArclength(on_arclength, UnitScaling(1), settings,
@@ -292,9 +299,7 @@ TEST_CASE("corrector: a crawling arclength correction fails early, a fixed-lambd
 
 TEST_CASE("corrector: slow full steps on the arclength are not cut as a crawl") {
   MisledProblem problem(10.0);
-  NewtonSettings settings;
-  settings.residual_scale = 1.0;
-  settings.max_iterations = 40;
+  const NewtonSettings settings = UnitSettings(40);
   Evaluator evaluator(problem);
   const CorrectorResult result = CorrectOnArclength(
       evaluator, UnitScaling(1), settings, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(0, 1));
@@ -306,9 +311,7 @@ TEST_CASE("corrector: slow full steps on the arclength are not cut as a crawl") 
 TEST_CASE("corrector: a slow but steady arclength correction is not cut") {
   SquareProblem problem;
   Evaluator evaluator(problem);
-  NewtonSettings settings;
-  settings.residual_scale = 1.0;
-  settings.max_iterations = 60;
+  const NewtonSettings settings = UnitSettings(60);
   // The row pins λ = 0, where the root is double: the merit y² falls by 4 per iteration, ~20
   // of them to the update tolerance.
   const CorrectorResult result = CorrectOnArclength(
@@ -335,9 +338,7 @@ TEST_CASE("corrector: fixed lambda keeps lambda exactly") {
 TEST_CASE("corrector: the line search rescues Newton where the full step diverges") {
   ArctanProblem problem;
   const Scaling scaling = UnitScaling(1);
-  NewtonSettings settings;
-  settings.residual_scale = 1.0;
-  settings.max_iterations = 50;
+  NewtonSettings settings = UnitSettings(50);
 
   settings.line_search = false;
   Evaluator plain(problem);
@@ -372,9 +373,7 @@ class CountingArctanProblem : public ArctanProblem {
 TEST_CASE("corrector: refused halvings of a step cost no Jacobian") {
   CountingArctanProblem problem;
   Evaluator evaluator(problem);
-  NewtonSettings settings;
-  settings.residual_scale = 1.0;
-  settings.max_iterations = 50;
+  const NewtonSettings settings = UnitSettings(50);
   const CorrectorResult result =
       CorrectAtFixedLambda(evaluator, UnitScaling(1), settings, Eigen::Vector2d(3.0, 0.0));
   REQUIRE(result.converged);
