@@ -75,9 +75,10 @@ double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
 }
 
 Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int perturbation,
-               int threads) {
+               int threads, int newton_target) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + c.file);
   the_case.stability.enabled = true;
+  if (newton_target > 0) the_case.continuation.target_newton_iterations = newton_target;
   if (perturbation > 0 && !the_case.model.forcing.empty()) {
     ForcingTerm& term = the_case.model.forcing.front();
     term.cos *= 1.0 + perturbation * kPerturbation;
@@ -269,7 +270,7 @@ void BenchStepWeights(double lu_unit) {
 }
 
 void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs, bool perturb,
-                     int threads) {
+                     int threads, int newton_target) {
   const std::vector<AcceptanceCase> cases = {
       {"duffing.json", Plotted::kMaxAbs, 0.0},
       {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
@@ -288,6 +289,8 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
   };
   std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n", HillThreads(threads),
               threads);
+  if (newton_target > 0)
+    std::printf("every case with target_newton_iterations %d\n", newton_target);
   for (int round = 0; round < runs; ++round) {
     if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
     // The reference traces cost more: once, or on every perturbed copy (the spread).
@@ -295,7 +298,8 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
     for (size_t i = 0; i < cases.size(); ++i) {
       const int perturbation = perturb ? round : 0;
       keep(InChild([&] {
-             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, threads);
+             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, threads,
+                            newton_target);
            }),
            &timings[i]);
     }

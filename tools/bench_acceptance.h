@@ -16,8 +16,10 @@ namespace nfrc::bench {
 // term is scaled by 1 + r·4.4e-16, so that the summary spans the step sequences a curve
 // takes under rounding-level changes instead of one draw. `threads`: TraceOptions::threads
 // (Hill's analyses beside the trace; 0 in turn, -1 one per hardware thread).
+// newton_target > 0: every case (and its accuracy reference) traced with that
+// continuation.target_newton_iterations instead of its own, a study of the step pacing.
 void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs = 1,
-                     bool perturb = false, int threads = -1);
+                     bool perturb = false, int threads = -1, int newton_target = 0);
 
 // Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
 // friction force's step weights 1, 0.3 (the default), 0.1 and 0 (HarmonicSystem::

@@ -521,18 +521,20 @@ int IntArgument(const std::string& arg, size_t key_length, long low, long high) 
   return static_cast<int>(value);
 }
 
-// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [threads=N] runs the numbered
-// sections above (default: all); runs=N repeats section 9 in N rounds and summarises each
+// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [threads=N] [target=N] runs the
+// numbered sections above (default: all); runs=N repeats section 9 in N rounds and summarises each
 // case's times; perturb makes round r trace a copy with the first forcing term scaled by
 // 1 + r·4.4e-16; threads=N runs Hill's analyses of sections 8 and 9 on N threads beside the
-// trace (TraceOptions::threads; default -1, one per hardware thread; 0 in turn).
+// trace (TraceOptions::threads; default -1, one per hardware thread; 0 in turn); target=N
+// traces section 9's cases with continuation.target_newton_iterations N instead of their own.
 int main(int argc, char** argv) {
   nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
   bool accuracy = false;
-  bool perturb = false;  // section 9: each round a copy perturbed to rounding (perturb)
-  int runs = 1;          // rounds of section 9 (runs=N)
-  int threads = -1;      // Hill's threads in sections 8 and 9 (threads=N)
+  bool perturb = false;   // section 9: each round a copy perturbed to rounding (perturb)
+  int runs = 1;           // rounds of section 9 (runs=N)
+  int threads = -1;       // Hill's threads in sections 8 and 9 (threads=N)
+  int newton_target = 0;  // section 9: every case's target_newton_iterations (target=N; 0: its own)
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "accuracy") {
@@ -543,6 +545,8 @@ int main(int argc, char** argv) {
       runs = IntArgument(arg, 5, 1, 1000);
     } else if (arg.rfind("threads=", 0) == 0) {
       threads = IntArgument(arg, 8, -1, nfrc::kMaxThreads);
+    } else if (arg.rfind("target=", 0) == 0) {
+      newton_target = IntArgument(arg, 7, 1, 100);
     } else {
       sections.push_back(std::atoi(argv[i]));
     }
@@ -579,7 +583,8 @@ int main(int argc, char** argv) {
     BenchStability("rod/flexible_4krod.json", 0, 0, threads);
   }
   if (run(9)) {
-    nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy, runs, perturb, threads);
+    nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, accuracy, runs, perturb, threads,
+                                 newton_target);
   }
   if (run(10)) nfrc::bench::BenchBlade(3, g_lu_unit);
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
