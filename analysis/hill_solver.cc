@@ -1,6 +1,8 @@
 #include "analysis/hill_solver.h"
 
+#include <algorithm>
 #include <cassert>
+#include <map>
 #include <numeric>
 
 #include "continuation/block_elimination.h"
@@ -15,6 +17,21 @@ int Root(std::vector<int>& parent, int i) {
     i = parent[static_cast<size_t>(i)];
   }
   return i;
+}
+
+// y ← (LU)⁻¹ y for the factors of a small block (unit L below the diagonal, U on and above),
+// column by column: Eigen's general triangular solves cost more than the arithmetic here.
+void SolveWithFactors(const Eigen::MatrixXd& lu, double* y) {
+  const Eigen::Index n = lu.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double* column = lu.data() + j * n;
+    for (Eigen::Index i = j + 1; i < n; ++i) y[i] -= column[i] * y[j];
+  }
+  for (Eigen::Index j = n - 1; j >= 0; --j) {
+    const double* column = lu.data() + j * n;
+    y[j] /= column[j];
+    for (Eigen::Index i = 0; i < j; ++i) y[i] -= column[i] * y[j];
+  }
 }
 
 }  // namespace
@@ -150,11 +167,18 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
   const auto release = [&](const std::vector<int>& owns) {
     for (const int own : owns) slot[static_cast<size_t>(own)] = -1;
   };
+  std::map<std::vector<int>, int> group_of;  // own rows → group
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const int nb = static_cast<int>(block.unknowns.size());
-    block.lu.compute(block_matrices[k]);
-    if (!RegularForElimination(block.lu)) return false;
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(block_matrices[k]);
+    if (!RegularForElimination(lu)) return false;
+    block.lu = lu.matrixLU();
+    block.gather.resize(static_cast<size_t>(nb));
+    for (int i = 0; i < nb; ++i) {
+      block.gather[static_cast<size_t>(lu.permutationP().indices()(i))] =
+          block.unknowns[static_cast<size_t>(i)];
+    }
     collect(to_own[k], &block.own_columns);
     const int nc = static_cast<int>(block.own_columns.size());
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nb, nc);
@@ -163,32 +187,56 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     }
     release(block.own_columns);
     // Zero-sized products are skipped: Eigen's kernels would bind references to null data.
-    block.eliminated = nc > 0 ? Eigen::MatrixXd(block.lu.solve(coupling)) : coupling;
-    collect(from_own[k], &block.own_rows);
-    const int nrows = static_cast<int>(block.own_rows.size());
-    std::vector<int> column_of(static_cast<size_t>(nb), -1);
+    block.eliminated = nc > 0 ? Eigen::MatrixXd(lu.solve(coupling)) : coupling;
+    block.solution.resize(nb);
+    if (from_own[k].empty()) continue;
+    std::vector<int> own_rows;
+    collect(from_own[k], &own_rows);
+    release(own_rows);
+    std::sort(own_rows.begin(), own_rows.end());
+    const auto [entry, added] = group_of.try_emplace(own_rows, static_cast<int>(groups_.size()));
+    if (added) groups_.push_back(RowGroup{std::move(own_rows), {}, 0, {}, {}});
+    block.group = entry->second;
+    std::vector<bool> reaches(static_cast<size_t>(nb), false);
     for (const Coupling& e : from_own[k]) {
-      if (column_of[static_cast<size_t>(e.position)] >= 0) continue;
-      column_of[static_cast<size_t>(e.position)] = static_cast<int>(block.row_positions.size());
+      if (reaches[static_cast<size_t>(e.position)]) continue;
+      reaches[static_cast<size_t>(e.position)] = true;
       block.row_positions.push_back(e.position);
     }
-    block.rows =
-        Eigen::MatrixXd::Zero(nrows, static_cast<Eigen::Index>(block.row_positions.size()));
+    RowGroup& group = groups_[static_cast<size_t>(block.group)];
+    block.reach_offset = group.width;
+    group.width += static_cast<int>(block.row_positions.size());
+  }
+  for (RowGroup& group : groups_) {
+    group.rows =
+        Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(group.own_rows.size()), group.width);
+    group.reaching.resize(group.width);
+    group.row_work.resize(static_cast<Eigen::Index>(group.own_rows.size()));
+  }
+  std::vector<int> column_of(static_cast<size_t>(kMaxBlock), -1);  // a position's reaching column
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    if (block.group < 0) continue;
+    RowGroup& group = groups_[static_cast<size_t>(block.group)];
+    const int nreach = static_cast<int>(block.row_positions.size());
+    for (int c = 0; c < nreach; ++c) {
+      column_of[static_cast<size_t>(block.row_positions[static_cast<size_t>(c)])] =
+          block.reach_offset + c;
+    }
+    for (size_t r = 0; r < group.own_rows.size(); ++r) {
+      slot[static_cast<size_t>(group.own_rows[r])] = static_cast<int>(r);
+    }
     for (const Coupling& e : from_own[k]) {
-      block.rows(slot[static_cast<size_t>(e.own)], column_of[static_cast<size_t>(e.position)]) =
+      group.rows(slot[static_cast<size_t>(e.own)], column_of[static_cast<size_t>(e.position)]) =
           e.value;
     }
-    release(block.own_rows);
+    release(group.own_rows);
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
-    if (nrows > 0 && nc > 0) {
-      const Eigen::MatrixXd update = block.rows * block.eliminated(block.row_positions, Eigen::all);
-      schur(block.own_rows, block.own_columns) -= update;
+    if (!block.own_columns.empty()) {
+      const Eigen::MatrixXd update = group.rows.middleCols(block.reach_offset, nreach) *
+                                     block.eliminated(block.row_positions, Eigen::all);
+      schur(group.own_rows, block.own_columns) -= update;
     }
-    block.local.resize(nb);
-    block.solution.resize(nb);
-    block.row_work.resize(nrows);
-    block.column_work.resize(nc);
-    block.reaching.resize(static_cast<Eigen::Index>(block.row_positions.size()));
   }
   if (nr > 0) schur_lu_.Compute(schur);
   schur_rhs_.resize(nr);
@@ -205,30 +253,31 @@ void HillLinearSolver::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) con
   schur_rhs_ = rhs(schur_unknowns_);
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());
-    for (int i = 0; i < nb; ++i) block.local(i) = rhs(block.unknowns[static_cast<size_t>(i)]);
-    block.solution = block.lu.solve(block.local);
-    if (block.own_rows.empty()) continue;
-    // A plain loop: Eigen's indexed assignment took Fig. 7's Hill from 0.41 to 0.45 ms a point.
-    for (size_t c = 0; c < block.row_positions.size(); ++c) {
-      block.reaching(static_cast<Eigen::Index>(c)) = block.solution(block.row_positions[c]);
-    }
-    block.row_work.noalias() = block.rows * block.reaching;
-    for (size_t r = 0; r < block.own_rows.size(); ++r) {
-      schur_rhs_(block.own_rows[r]) -= block.row_work(static_cast<Eigen::Index>(r));
+    double* y = block.solution.data();
+    for (int i = 0; i < nb; ++i) y[i] = rhs(block.gather[static_cast<size_t>(i)]);
+    SolveWithFactors(block.lu, y);
+    if (block.group < 0) continue;
+    double* reaching =
+        groups_[static_cast<size_t>(block.group)].reaching.data() + block.reach_offset;
+    for (size_t c = 0; c < block.row_positions.size(); ++c) reaching[c] = y[block.row_positions[c]];
+  }
+  for (const RowGroup& group : groups_) {
+    group.row_work.noalias() = group.rows * group.reaching;
+    for (size_t r = 0; r < group.own_rows.size(); ++r) {
+      schur_rhs_(group.own_rows[r]) -= group.row_work(static_cast<Eigen::Index>(r));
     }
   }
   if (!schur_unknowns_.empty()) schur_lu_.Solve(schur_rhs_, &own_solution_);
   (*x)(schur_unknowns_) = own_solution_;
   for (const Block& block : blocks_) {
     const int nb = static_cast<int>(block.unknowns.size());
-    if (!block.own_columns.empty()) {
-      for (size_t c = 0; c < block.own_columns.size(); ++c) {
-        block.column_work(static_cast<Eigen::Index>(c)) = own_solution_(block.own_columns[c]);
-      }
-      block.local.noalias() = block.eliminated * block.column_work;
-      block.solution -= block.local;
+    double* y = block.solution.data();
+    for (size_t c = 0; c < block.own_columns.size(); ++c) {
+      const double own = own_solution_(block.own_columns[c]);
+      const double* column = block.eliminated.data() + static_cast<Eigen::Index>(c) * nb;
+      for (int i = 0; i < nb; ++i) y[i] -= column[i] * own;
     }
-    for (int i = 0; i < nb; ++i) (*x)(block.unknowns[static_cast<size_t>(i)]) = block.solution(i);
+    for (int i = 0; i < nb; ++i) (*x)(block.unknowns[static_cast<size_t>(i)]) = y[i];
   }
 }
 

@@ -40,22 +40,34 @@ class HillLinearSolver {
   bool eliminating() const { return eliminating_; }
   // Unknowns in the Schur complement when eliminating.
   int schur_size() const { return static_cast<int>(schur_unknowns_.size()); }
+  // Groups of blocks that reach the same own rows when eliminating.
+  int num_row_groups() const { return static_cast<int>(groups_.size()); }
   // x = H⁻¹ rhs; x must not alias rhs. No allocation once x has the matrix's size.
   void Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
 
  private:
   struct Block {
-    std::vector<int> unknowns;                // indices in H
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of H(B, B)
-    std::vector<int> own_columns;             // Schur positions p with H(B, p) ≠ 0
-    std::vector<int> own_rows;                // Schur positions p with H(p, B) ≠ 0
-    Eigen::MatrixXd eliminated;               // H(B, B)⁻¹ H(B, own_columns)
+    std::vector<int> unknowns;  // indices in H
+    // The rows of H(B, B) in pivot order: the LU's right-hand side is rhs(gather).
+    std::vector<int> gather;
+    Eigen::MatrixXd lu;            // unit L below the diagonal and U of P H(B, B)
+    std::vector<int> own_columns;  // Schur positions p with H(B, p) ≠ 0
+    Eigen::MatrixXd eliminated;    // H(B, B)⁻¹ H(B, own_columns)
     // The block's positions whose columns reach own rows (friction: its DOF's, not the
-    // others'), and H(own_rows, those columns): the zero columns are left out.
+    // others'): its columns of its group's rows, from reach_offset on.
     std::vector<int> row_positions;
-    Eigen::MatrixXd rows;
-    // Work vectors of Solve (block, own_rows, own_columns and row_positions sized).
-    mutable Eigen::VectorXd local, solution, row_work, column_work, reaching;
+    int group = -1;  // in groups_; -1: no own row depends on the block
+    int reach_offset = 0;
+    mutable Eigen::VectorXd solution;  // Solve's work vector
+  };
+  // The blocks that reach the same own rows (friction: every harmonic reaches all the force
+  // rows), side by side: one product per group instead of one per block, and one scatter.
+  struct RowGroup {
+    std::vector<int> own_rows;  // Schur positions, ascending
+    Eigen::MatrixXd rows;       // H(own_rows, its blocks' reaching columns)
+    int width = 0;              // columns of rows
+    // Work vectors of Solve: the blocks' reaching solutions and rows · reaching.
+    mutable Eigen::VectorXd reaching, row_work;
   };
 
   // The Schur complement's unknowns: the own ones and the displacement rows that reach
@@ -72,6 +84,7 @@ class HillLinearSolver {
   bool ok_ = false;
   bool eliminating_ = false;
   std::vector<Block> blocks_;
+  std::vector<RowGroup> groups_;
   DenseLu schur_lu_;
   mutable Eigen::VectorXd schur_rhs_, own_solution_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse_lu_;

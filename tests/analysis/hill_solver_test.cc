@@ -58,6 +58,7 @@ TEST_CASE("hill solver: friction's blocks per harmonic and the Schur complement 
   const HillLinearSolver solver(hill, pencil.own_offset);
   REQUIRE(solver.ok());
   CHECK(solver.eliminating());
+  CHECK(solver.num_row_groups() == 1);  // every harmonic reaches all the force's rows
   CHECK(Difference(hill, solver) <= kSameSolution);
 }
 
@@ -118,6 +119,33 @@ TEST_CASE("hill solver: a spring at every DOF of a long chain keeps the sparse L
   CHECK(split.eliminating());
   CHECK(split.schur_size() == 10 * c.harmonics.NumCoefficients());
   CHECK(Difference(fewer_hill, split) <= kSameSolution);
+}
+
+TEST_CASE("hill solver: blocks reaching different own rows, with pivoting inside a block") {
+  // Blocks {0, 1, 2} (a zero first pivot: rows swap), {3, 4}, {5} and {6}; own unknowns 7–9.
+  // The first two reach own rows 7 and 8 (one group, side by side), {5} reaches row 9 (a
+  // second group), {6} reaches none; every block has own columns.
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(10, 10);
+  dense.topLeftCorner(3, 3) << 0, 2, 1,  //
+      3, 1, 0,                           //
+      1, 0, 4;
+  dense.block(3, 3, 2, 2) << 2, 1,  //
+      1, 3;
+  dense(5, 5) = 1.5;
+  dense(6, 6) = -2.0;
+  dense.bottomRightCorner(3, 3) = Eigen::Vector3d(5.0, 6.0, 7.0).asDiagonal();
+  dense(7, 0) = 1.0;
+  dense(8, 2) = -1.0;
+  dense(7, 4) = 0.5;
+  dense(8, 3) = 2.0;
+  dense(9, 5) = 1.0;
+  for (int i = 0; i < 7; ++i) dense(i, 7 + i % 3) = 0.25 * (i + 1);
+  const Eigen::SparseMatrix<double> matrix = dense.sparseView();
+  const HillLinearSolver solver(matrix, 7);
+  REQUIRE(solver.ok());
+  REQUIRE(solver.eliminating());
+  CHECK(solver.num_row_groups() == 2);
+  CHECK(Difference(matrix, solver) <= kSameSolution);
 }
 
 TEST_CASE("hill solver: a singular block falls back to the sparse LU") {
