@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace nfrc {
 
@@ -25,8 +26,9 @@ SolutionMeasures SolutionReporter::Measure(const Eigen::VectorXd& y, double omeg
   for (size_t i = 0; i < system_.laws().size(); ++i) {
     const auto& law = *system_.laws()[i];
     const NonlinearityContext& ctx = system_.context(static_cast<int>(i));
-    m.laws.push_back(law.Diagnostics(ctx, y, omega, analyzer_.fine()));
-    const LawSummary summary = law.Summarize(ctx, y, omega, analyzer_.fine());
+    LawReport report = law.Report(ctx, y, omega, analyzer_.fine());
+    m.laws.push_back(std::move(report.diagnostics));
+    const LawSummary& summary = report.summary;
     if (summary.min_gap) m.min_gap = std::min(m.min_gap.value_or(INFINITY), *summary.min_gap);
     if (summary.min_force) {
       m.min_force = std::min(m.min_force.value_or(INFINITY), *summary.min_force);

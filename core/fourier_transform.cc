@@ -60,10 +60,10 @@ struct FourierTransform::FftState {
 
   int n_t;
   std::vector<std::complex<double>> spectrum;
-  // WeightedProduct's tables of C_m and S_m, kept between calls.
-  std::vector<double> cos_sums, sin_sums;
-  // Each harmonic's rows of a and b (HarmonicSet::CosIndex, SinIndex) for WeightedProduct.
-  std::vector<int> cos_index, sin_index;
+  // WeightedProduct's table of (C_m, S_m) pairs, kept between calls.
+  std::vector<double> sums;
+  // Each harmonic's row of a (HarmonicSet::CosIndex; b's follows it) for WeightedProduct.
+  std::vector<int> cos_index;
   fftw_plan forward = nullptr;
   fftw_plan inverse = nullptr;
 };
@@ -87,7 +87,6 @@ FourierTransform::FourierTransform(const HarmonicSet& set)
   derivative_matrix_.setZero(n_c, n_c);
   for (int p = 0; p < set_.num_harmonics(); ++p) {
     fft_->cos_index.push_back(set_.CosIndex(p));
-    fft_->sin_index.push_back(set_.SinIndex(p));
     const int k = set_.harmonics()[p];
     if (k == 0) continue;
     derivative_matrix_(set_.CosIndex(p), set_.SinIndex(p)) = k;
@@ -256,53 +255,58 @@ void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& 
   fft_->Forward(weights.data());
   // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
   // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry), tabulated
-  // for −2H ≤ m ≤ 2H at m + 2H: C_−m = C_m, S_−m = −S_m.
+  // as pairs for −2H ≤ m ≤ 2H at 2(m + 2H): C_−m = C_m, S_−m = −S_m. Pairs, because each
+  // 2 × 2 block below reads one pair at j − k and one at j + k.
   const int top = 2 * set_.max_harmonic();
-  std::vector<double>& cos_sums = fft_->cos_sums;
-  std::vector<double>& sin_sums = fft_->sin_sums;
-  cos_sums.resize(2 * static_cast<size_t>(top) + 1);
-  sin_sums.resize(cos_sums.size());
+  std::vector<double>& sums = fft_->sums;
+  sums.resize(2 * (2 * static_cast<size_t>(top) + 1));
   for (int m = top; m >= 0; --m) {  // downwards: m = 0 is written last, as +S_0
     const int r = m % n_t;
     const double c = (r <= n_t / 2 ? spectrum[r].real() : spectrum[n_t - r].real()) / n_t;
     const double s = (r <= n_t / 2 ? -spectrum[r].imag() : spectrum[n_t - r].imag()) / n_t;
-    cos_sums[static_cast<size_t>(top - m)] = c;
-    cos_sums[static_cast<size_t>(top + m)] = c;
-    sin_sums[static_cast<size_t>(top - m)] = -s;
-    sin_sums[static_cast<size_t>(top + m)] = s;
+    sums[2 * static_cast<size_t>(top - m)] = c;
+    sums[2 * static_cast<size_t>(top - m) + 1] = -s;
+    sums[2 * static_cast<size_t>(top + m)] = c;
+    sums[2 * static_cast<size_t>(top + m) + 1] = s;
   }
-  const double* cos_sum = cos_sums.data() + top;  // cos_sum[m] = C_m, −2H ≤ m ≤ 2H
-  const double* sin_sum = sin_sums.data() + top;
+  const double* pair = sums.data() + 2 * top;  // pair[2m] = C_m, pair[2m + 1] = S_m
   const int n_c = set_.NumCoefficients();
   const int n_h = set_.num_harmonics();
   const std::vector<int>& harmonics = set_.harmonics();
   const std::vector<int>& cos_index = fft_->cos_index;
-  const std::vector<int>& sin_index = fft_->sin_index;
+  const bool has_constant = harmonics.front() == 0;
   product->resize(n_c, n_c);
-  // Column pair by column pair (q outer): the column-major storage is written in order.
+  // Column pair by column pair (q outer): the column-major storage is written in order. A
+  // harmonic's sine index follows its cosine index (HarmonicSet's layout).
   for (int q = 0; q < n_h; ++q) {
     const int k = harmonics[static_cast<size_t>(q)];
     double* const cos_column = product->col(cos_index[static_cast<size_t>(q)]).data();
-    double* const sin_column = product->col(sin_index[static_cast<size_t>(q)]).data();
-    for (int p = 0; p < n_h; ++p) {
+    if (k == 0) {
+      cos_column[0] = pair[0];
+      for (int p = 1; p < n_h; ++p) {
+        const double* c = pair + 2 * harmonics[static_cast<size_t>(p)];
+        cos_column[cos_index[static_cast<size_t>(p)]] = 2.0 * c[0];
+        cos_column[cos_index[static_cast<size_t>(p)] + 1] = 2.0 * c[1];
+      }
+      continue;
+    }
+    double* const sin_column = cos_column + n_c;
+    if (has_constant) {
+      cos_column[0] = pair[2 * k];
+      sin_column[0] = pair[2 * k + 1];
+    }
+    // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise; with
+    // a = (C, S) at j − k and b at j + k, the block is [a_C + b_C, b_S − a_S; a_S + b_S, a_C −
+    // b_C].
+    for (int p = has_constant ? 1 : 0; p < n_h; ++p) {
       const int j = harmonics[static_cast<size_t>(p)];
       const int rc = cos_index[static_cast<size_t>(p)];
-      const int rs = sin_index[static_cast<size_t>(p)];
-      if (j == 0 && k == 0) {
-        cos_column[rc] = cos_sum[0];
-      } else if (j == 0) {
-        cos_column[rc] = cos_sum[k];
-        sin_column[rc] = sin_sum[k];
-      } else if (k == 0) {
-        cos_column[rc] = 2.0 * cos_sum[j];
-        cos_column[rs] = 2.0 * sin_sum[j];
-      } else {
-        // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise.
-        cos_column[rc] = cos_sum[j - k] + cos_sum[j + k];
-        sin_column[rc] = sin_sum[k + j] + sin_sum[k - j];
-        cos_column[rs] = sin_sum[j + k] + sin_sum[j - k];
-        sin_column[rs] = cos_sum[j - k] - cos_sum[j + k];
-      }
+      const double* a = pair + 2 * (j - k);
+      const double* b = pair + 2 * (j + k);
+      cos_column[rc] = a[0] + b[0];
+      cos_column[rc + 1] = a[1] + b[1];
+      sin_column[rc] = b[1] - a[1];
+      sin_column[rc + 1] = a[0] - b[0];
     }
   }
 }

@@ -49,6 +49,12 @@ struct LawSummary {
   std::optional<double> min_force;  // N, contact laws: smallest truncated force (fine grid)
 };
 
+// A law's Summarize and Diagnostics at one solution.
+struct LawReport {
+  LawSummary summary;
+  std::map<std::string, double> diagnostics;
+};
+
 // How a law's force depends on the condensed linear residual of its DOFs (DLFT predicts its
 // force from it): f_row(r) += row_sign(r)·W·Σ_i c_i·(A x − b)_{dof i}, with A x − b the
 // condensed linear part's rows. Hill's method replaces those rows by the full model's
@@ -195,6 +201,13 @@ class Nonlinearity {
                                                     const Eigen::VectorXd& /*y*/, double /*omega*/,
                                                     const FourierTransform& /*fine*/) const {
     return {};
+  }
+
+  // Both of the above, as every accepted point reports them; a law whose two share their work
+  // (its signals on the fine grid) overrides this to do it once.
+  virtual LawReport Report(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                           const FourierTransform& fine) const {
+    return {Summarize(ctx, y, omega, fine), Diagnostics(ctx, y, omega, fine)};
   }
 };
 

@@ -145,30 +145,36 @@ std::optional<PhaseCount> CoulombFriction::StickPhases(const NonlinearityContext
   return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
 }
 
+LawReport CoulombFriction::ReportOf(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
+                                    const Eigen::VectorXd& v) const {
+  LawReport report;
+  if (parameters_.limit > 0.0) {
+    report.diagnostics["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
+  }
+  if (const std::optional<PhaseCount> phases = StickPhases(ctx, r, v)) {
+    report.diagnostics["stick_phases"] = phases->count;
+    report.diagnostics["stick_fraction"] = phases->fraction;
+    report.summary.phase = LawSummary::Phase{"stick", phases->count, phases->fraction};
+  }
+  return report;
+}
+
+LawReport CoulombFriction::Report(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                  double omega, const FourierTransform& fine) const {
+  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
+  return ReportOf(ctx, signals[0].samples, signals[1].samples);
+}
+
 std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityContext& ctx,
                                                            const Eigen::VectorXd& y, double omega,
                                                            const FourierTransform& fine) const {
-  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
-  const Eigen::VectorXd& r = signals[0].samples;
-  const Eigen::VectorXd& v = signals[1].samples;
-  std::map<std::string, double> result;
-  if (parameters_.limit > 0.0)
-    result["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
-  if (const std::optional<PhaseCount> phases = StickPhases(ctx, r, v)) {
-    result["stick_phases"] = phases->count;
-    result["stick_fraction"] = phases->fraction;
-  }
-  return result;
+  return Report(ctx, y, omega, fine).diagnostics;
 }
 
 LawSummary CoulombFriction::Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
                                       double omega, const FourierTransform& fine) const {
-  LawSummary summary;
-  if (!HasStickBranch(parameters_.equality)) return summary;
-  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
-  const std::optional<PhaseCount> phases = StickPhases(ctx, signals[0].samples, signals[1].samples);
-  summary.phase = LawSummary::Phase{"stick", phases->count, phases->fraction};
-  return summary;
+  if (!HasStickBranch(parameters_.equality)) return {};
+  return Report(ctx, y, omega, fine).summary;
 }
 
 }  // namespace nfrc

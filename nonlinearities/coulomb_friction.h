@@ -53,6 +53,9 @@ class CoulombFriction : public Nonlinearity {
   // Stick phases (laws with a stick branch) and their fraction.
   LawSummary Summarize(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
                        const FourierTransform& fine) const override;
+  // Both from one evaluation of the signals.
+  LawReport Report(const NonlinearityContext& ctx, const Eigen::VectorXd& y, double omega,
+                   const FourierTransform& fine) const override;
 
   const FrictionParameters& parameters() const { return parameters_; }
   int dof() const { return dof_; }
@@ -67,6 +70,9 @@ class CoulombFriction : public Nonlinearity {
   // stick branch. Phases shorter than the period of the highest harmonic are ripple.
   std::optional<PhaseCount> StickPhases(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
                                         const Eigen::VectorXd& v) const;
+  // Report from the fine grid's force r and velocity v (Signals).
+  LawReport ReportOf(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
+                     const Eigen::VectorXd& v) const;
 
   int dof_;
   int other_;

@@ -350,6 +350,17 @@ TEST_CASE("exact-law solution at N_phi = 160 satisfies Coulomb's law on the samp
   const auto on_fine_grid = law.Diagnostics(system->context(0), y, omega, analyzer.fine());
   CHECK(on_solver_grid.at("stick_phases") == kPublishedStickPhases);
   CHECK(on_fine_grid.at("stick_phases") == kPublishedStickPhases);
+  // The report's largest force against the series summed here (the Gibbs overshoot makes it
+  // above μN); the sums differ by rounding, ~1e-13 relative.
+  constexpr double kSameSum = 1e-10;
+  REQUIRE(worst_overshoot > 0.0);
+  CHECK(on_solver_grid.at("max_force_ratio") ==
+        doctest::Approx(1.0 + worst_overshoot).epsilon(kSameSum));
+  // The typed summary reads the same phases.
+  const LawSummary summary = law.Summarize(system->context(0), y, omega, analyzer.fine());
+  REQUIRE(summary.phase.has_value());
+  CHECK(summary.phase->count == kPublishedStickPhases);
+  CHECK(summary.phase->fraction == on_fine_grid.at("stick_fraction"));
 
   // The plain truncation's Gibbs overshoot, for the report: (4/π) Σ_{k odd ≤ H} sin kθ / k.
   double square_max = 0;
