@@ -60,8 +60,10 @@ struct FourierTransform::FftState {
 
   int n_t;
   std::vector<std::complex<double>> spectrum;
-  // WeightedProduct's table of (C_m, S_m) pairs, kept between calls.
+  // WeightedProduct's table of (C_m, S_m) pairs and AddWeightedProduct's column pair, kept
+  // between calls.
   std::vector<double> sums;
+  Eigen::VectorXd cos_work, sin_work;
   // Each harmonic's row of a (HarmonicSet::CosIndex; b's follows it) for WeightedProduct.
   std::vector<int> cos_index;
   fftw_plan forward = nullptr;
@@ -247,8 +249,7 @@ Eigen::MatrixXd FourierTransform::WeightedProduct(
   return product;
 }
 
-void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
-                                       Eigen::MatrixXd* product) const {
+void FourierTransform::TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& weights) const {
   const int n_t = set_.num_samples();
   CheckShape("weights", weights.rows(), weights.cols(), n_t, 1);
   auto& spectrum = fft_->spectrum;
@@ -256,7 +257,7 @@ void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& 
   // C_m = (1/N) Σ w_j cos(mθ_j), S_m = (1/N) Σ w_j sin(mθ_j) for any integer m (periodic in
   // N; the half spectrum holds m ≤ N/2, the rest follows from Hermitian symmetry), tabulated
   // as pairs for −2H ≤ m ≤ 2H at 2(m + 2H): C_−m = C_m, S_−m = −S_m. Pairs, because each
-  // 2 × 2 block below reads one pair at j − k and one at j + k.
+  // 2 × 2 block of the product reads one pair at j − k and one at j + k.
   const int top = 2 * set_.max_harmonic();
   std::vector<double>& sums = fft_->sums;
   sums.resize(2 * (2 * static_cast<size_t>(top) + 1));
@@ -269,44 +270,82 @@ void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& 
     sums[2 * static_cast<size_t>(top + m)] = c;
     sums[2 * static_cast<size_t>(top + m) + 1] = s;
   }
-  const double* pair = sums.data() + 2 * top;  // pair[2m] = C_m, pair[2m + 1] = S_m
-  const int n_c = set_.NumCoefficients();
+}
+
+void FourierTransform::ProductColumns(int q, double* cos_column, double* sin_column) const {
+  const double* pair = fft_->sums.data() + 2 * 2 * set_.max_harmonic();  // (C_m, S_m) at 2m
   const int n_h = set_.num_harmonics();
   const std::vector<int>& harmonics = set_.harmonics();
   const std::vector<int>& cos_index = fft_->cos_index;
+  const int k = harmonics[static_cast<size_t>(q)];
+  // A harmonic's sine index follows its cosine index (HarmonicSet's layout).
+  if (k == 0) {
+    cos_column[0] = pair[0];
+    for (int p = 1; p < n_h; ++p) {
+      const double* c = pair + 2 * harmonics[static_cast<size_t>(p)];
+      cos_column[cos_index[static_cast<size_t>(p)]] = 2.0 * c[0];
+      cos_column[cos_index[static_cast<size_t>(p)] + 1] = 2.0 * c[1];
+    }
+    return;
+  }
   const bool has_constant = harmonics.front() == 0;
+  if (has_constant) {
+    cos_column[0] = pair[2 * k];
+    sin_column[0] = pair[2 * k + 1];
+  }
+  // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise; with
+  // a = (C, S) at j − k and b at j + k, the block is [a_C + b_C, b_S − a_S; a_S + b_S, a_C − b_C].
+  for (int p = has_constant ? 1 : 0; p < n_h; ++p) {
+    const int j = harmonics[static_cast<size_t>(p)];
+    const int rc = cos_index[static_cast<size_t>(p)];
+    const double* a = pair + 2 * (j - k);
+    const double* b = pair + 2 * (j + k);
+    cos_column[rc] = a[0] + b[0];
+    cos_column[rc + 1] = a[1] + b[1];
+    sin_column[rc] = b[1] - a[1];
+    sin_column[rc + 1] = a[0] - b[0];
+  }
+}
+
+void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                       Eigen::MatrixXd* product) const {
+  TabulateSums(weights);
+  const int n_c = set_.NumCoefficients();
   product->resize(n_c, n_c);
-  // Column pair by column pair (q outer): the column-major storage is written in order. A
-  // harmonic's sine index follows its cosine index (HarmonicSet's layout).
-  for (int q = 0; q < n_h; ++q) {
-    const int k = harmonics[static_cast<size_t>(q)];
-    double* const cos_column = product->col(cos_index[static_cast<size_t>(q)]).data();
+  // Column pair by column pair: the column-major storage is written in order.
+  for (int q = 0; q < set_.num_harmonics(); ++q) {
+    double* const cos_column = product->col(fft_->cos_index[static_cast<size_t>(q)]).data();
+    ProductColumns(q, cos_column, cos_column + n_c);
+  }
+}
+
+void FourierTransform::AddWeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
+                                          double scale, bool times_derivative,
+                                          Eigen::Ref<Eigen::MatrixXd> target) const {
+  const int n_c = set_.NumCoefficients();
+  CheckShape("target", target.rows(), target.cols(), n_c, n_c);
+  TabulateSums(weights);
+  Eigen::VectorXd& cos_work = fft_->cos_work;
+  Eigen::VectorXd& sin_work = fft_->sin_work;
+  cos_work.resize(n_c);
+  sin_work.resize(n_c);
+  for (int q = 0; q < set_.num_harmonics(); ++q) {
+    const int k = set_.harmonics()[static_cast<size_t>(q)];
+    const int ic = fft_->cos_index[static_cast<size_t>(q)];
     if (k == 0) {
-      cos_column[0] = pair[0];
-      for (int p = 1; p < n_h; ++p) {
-        const double* c = pair + 2 * harmonics[static_cast<size_t>(p)];
-        cos_column[cos_index[static_cast<size_t>(p)]] = 2.0 * c[0];
-        cos_column[cos_index[static_cast<size_t>(p)] + 1] = 2.0 * c[1];
-      }
+      if (times_derivative) continue;  // m·D's column of the constant is zero
+      ProductColumns(q, cos_work.data(), nullptr);
+      target.col(ic) += scale * cos_work;
       continue;
     }
-    double* const sin_column = cos_column + n_c;
-    if (has_constant) {
-      cos_column[0] = pair[2 * k];
-      sin_column[0] = pair[2 * k + 1];
-    }
-    // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise; with
-    // a = (C, S) at j − k and b at j + k, the block is [a_C + b_C, b_S − a_S; a_S + b_S, a_C −
-    // b_C].
-    for (int p = has_constant ? 1 : 0; p < n_h; ++p) {
-      const int j = harmonics[static_cast<size_t>(p)];
-      const int rc = cos_index[static_cast<size_t>(p)];
-      const double* a = pair + 2 * (j - k);
-      const double* b = pair + 2 * (j + k);
-      cos_column[rc] = a[0] + b[0];
-      cos_column[rc + 1] = a[1] + b[1];
-      sin_column[rc] = b[1] - a[1];
-      sin_column[rc + 1] = a[0] - b[0];
+    ProductColumns(q, cos_work.data(), sin_work.data());
+    if (times_derivative) {
+      // ±k·m first, as AddTimesDerivative rounds it.
+      target.col(ic) += scale * (-k * sin_work);
+      target.col(ic + 1) += scale * (k * cos_work);
+    } else {
+      target.col(ic) += scale * cos_work;
+      target.col(ic + 1) += scale * sin_work;
     }
   }
 }

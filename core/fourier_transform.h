@@ -58,8 +58,19 @@ class FourierTransform {
   // The same into `product`, whose storage is kept when it already has the size.
   void WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights,
                        Eigen::MatrixXd* product) const;
+  // target += scale·P·diag(weights)·E (times_derivative: ·D), column pair by column pair
+  // without the product's n_c² temporary; each entry rounded as adding scale times
+  // WeightedProduct (or AddTimesDerivative of it) would round it.
+  void AddWeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& weights, double scale,
+                          bool times_derivative, Eigen::Ref<Eigen::MatrixXd> target) const;
 
  private:
+  // The table of (C_m, S_m) of the weights that ProductColumns reads.
+  void TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& weights) const;
+  // Columns cos k and sin k (harmonic position q) of P·diag(w)·E from the table; sin_column is
+  // not written for the constant.
+  void ProductColumns(int q, double* cos_column, double* sin_column) const;
+
   struct FftState;
   HarmonicSet set_;
   std::unique_ptr<FftState> fft_;

@@ -79,14 +79,11 @@ void CoulombFriction::Evaluate(const NonlinearityContext& ctx, const Eigen::Vect
     jacobian->block(row_dof, row_own, nc, nc).diagonal().array() -= 1.0;
     if (row_other >= 0) jacobian->block(row_other, row_own, nc, nc).diagonal().array() += 1.0;
     // ∂g/∂x_rel = P diag(Ψ_v) E ωD and ∂g/∂r̃ = P diag(Ψ_r) E, added in place.
-    Eigen::MatrixXd product;
-    fourier.WeightedProduct(psi_v, &product);
-    fourier.AddTimesDerivative(product, omega, jacobian->block(row_own, row_dof, nc, nc));
+    fourier.AddWeightedProduct(psi_v, omega, true, jacobian->block(row_own, row_dof, nc, nc));
     if (row_other >= 0) {
-      fourier.AddTimesDerivative(product, -omega, jacobian->block(row_own, row_other, nc, nc));
+      fourier.AddWeightedProduct(psi_v, -omega, true, jacobian->block(row_own, row_other, nc, nc));
     }
-    fourier.WeightedProduct(psi_r, &product);
-    jacobian->block(row_own, row_own, nc, nc) += product;
+    fourier.AddWeightedProduct(psi_r, 1.0, false, jacobian->block(row_own, row_own, nc, nc));
   }
   if (d_omega != nullptr) {
     // v = ωD x: ∂v/∂ω = D x = v / ω.

@@ -246,6 +246,43 @@ TEST_CASE("WeightedProduct equals the dense P diag(w) E for full and odd sets, a
   }
 }
 
+TEST_CASE("AddWeightedProduct adds scale P diag(w) E (and its D) in place, to the bit") {
+  // Against the dense product (an independent sum) and, bit for bit, against the two-step
+  // path it replaces in the friction law (WeightedProduct, then AddTimesDerivative or +=).
+  constexpr double kTolerance = 1e-12;
+  constexpr double kScale = -0.37;
+  for (bool odd : {false, true}) {
+    for (int samples : {0, 33}) {
+      const HarmonicSet set(7, odd, samples);
+      const FourierTransform fourier(set);
+      const int nc = set.NumCoefficients();
+      const Eigen::VectorXd w = Eigen::VectorXd::Random(set.num_samples());
+      const Eigen::MatrixXd dense =
+          fourier.ProjectionMatrix() * w.asDiagonal() * fourier.SampleMatrix();
+      const Eigen::MatrixXd start = Eigen::MatrixXd::Random(nc + 2, nc + 3);
+      CAPTURE(odd);
+      CAPTURE(samples);
+      for (bool derivative : {false, true}) {
+        CAPTURE(derivative);
+        Eigen::MatrixXd fused = start;
+        fourier.AddWeightedProduct(w, kScale, derivative, fused.block(1, 2, nc, nc));
+        Eigen::MatrixXd two_step = start;
+        const Eigen::MatrixXd product = fourier.WeightedProduct(w);
+        if (derivative) {
+          fourier.AddTimesDerivative(product, kScale, two_step.block(1, 2, nc, nc));
+        } else {
+          two_step.block(1, 2, nc, nc) += kScale * product;
+        }
+        CHECK(fused == two_step);
+        Eigen::MatrixXd expected = start;
+        expected.block(1, 2, nc, nc) +=
+            kScale * (derivative ? Eigen::MatrixXd(dense * fourier.DerivativeMatrix()) : dense);
+        CHECK((fused - expected).cwiseAbs().maxCoeff() < kTolerance);
+      }
+    }
+  }
+}
+
 TEST_CASE("AddTimesDerivative adds scale m D in place, rounded as the product added") {
   for (bool odd : {false, true}) {
     const HarmonicSet set(6, odd);
