@@ -60,10 +60,8 @@ struct FourierTransform::FftState {
 
   int n_t;
   std::vector<std::complex<double>> spectrum;
-  // WeightedProduct's table of (C_m, S_m) pairs and AddWeightedProduct's column pair, kept
-  // between calls.
+  // WeightedProduct's table of (C_m, S_m) pairs, kept between calls.
   std::vector<double> sums;
-  Eigen::VectorXd cos_work, sin_work;
   // Each harmonic's row of a (HarmonicSet::CosIndex; b's follows it) for WeightedProduct.
   std::vector<int> cos_index;
   fftw_plan forward = nullptr;
@@ -272,7 +270,8 @@ void FourierTransform::TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& wei
   }
 }
 
-void FourierTransform::ProductColumns(int q, double* cos_column, double* sin_column) const {
+template <typename Put>
+void FourierTransform::ForEachProductEntry(int q, Put put) const {
   const double* pair = fft_->sums.data() + 2 * 2 * set_.max_harmonic();  // (C_m, S_m) at 2m
   const int n_h = set_.num_harmonics();
   const std::vector<int>& harmonics = set_.harmonics();
@@ -280,18 +279,19 @@ void FourierTransform::ProductColumns(int q, double* cos_column, double* sin_col
   const int k = harmonics[static_cast<size_t>(q)];
   // A harmonic's sine index follows its cosine index (HarmonicSet's layout).
   if (k == 0) {
-    cos_column[0] = pair[0];
+    put(0, 0, pair[0]);
     for (int p = 1; p < n_h; ++p) {
       const double* c = pair + 2 * harmonics[static_cast<size_t>(p)];
-      cos_column[cos_index[static_cast<size_t>(p)]] = 2.0 * c[0];
-      cos_column[cos_index[static_cast<size_t>(p)] + 1] = 2.0 * c[1];
+      const int rc = cos_index[static_cast<size_t>(p)];
+      put(rc, 0, 2.0 * c[0]);
+      put(rc + 1, 0, 2.0 * c[1]);
     }
     return;
   }
   const bool has_constant = harmonics.front() == 0;
   if (has_constant) {
-    cos_column[0] = pair[2 * k];
-    sin_column[0] = pair[2 * k + 1];
+    put(0, 0, pair[2 * k]);
+    put(0, 1, pair[2 * k + 1]);
   }
   // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise; with
   // a = (C, S) at j − k and b at j + k, the block is [a_C + b_C, b_S − a_S; a_S + b_S, a_C − b_C].
@@ -300,10 +300,10 @@ void FourierTransform::ProductColumns(int q, double* cos_column, double* sin_col
     const int rc = cos_index[static_cast<size_t>(p)];
     const double* a = pair + 2 * (j - k);
     const double* b = pair + 2 * (j + k);
-    cos_column[rc] = a[0] + b[0];
-    cos_column[rc + 1] = a[1] + b[1];
-    sin_column[rc] = b[1] - a[1];
-    sin_column[rc + 1] = a[0] - b[0];
+    put(rc, 0, a[0] + b[0]);
+    put(rc + 1, 0, a[1] + b[1]);
+    put(rc, 1, b[1] - a[1]);
+    put(rc + 1, 1, a[0] - b[0]);
   }
 }
 
@@ -315,7 +315,10 @@ void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& 
   // Column pair by column pair: the column-major storage is written in order.
   for (int q = 0; q < set_.num_harmonics(); ++q) {
     double* const cos_column = product->col(fft_->cos_index[static_cast<size_t>(q)]).data();
-    ProductColumns(q, cos_column, cos_column + n_c);
+    double* const sin_column = cos_column + n_c;
+    ForEachProductEntry(q, [&](int row, int column, double value) {
+      (column == 0 ? cos_column : sin_column)[row] = value;
+    });
   }
 }
 
@@ -325,27 +328,25 @@ void FourierTransform::AddWeightedProduct(const Eigen::Ref<const Eigen::VectorXd
   const int n_c = set_.NumCoefficients();
   CheckShape("target", target.rows(), target.cols(), n_c, n_c);
   TabulateSums(weights);
-  Eigen::VectorXd& cos_work = fft_->cos_work;
-  Eigen::VectorXd& sin_work = fft_->sin_work;
-  cos_work.resize(n_c);
-  sin_work.resize(n_c);
   for (int q = 0; q < set_.num_harmonics(); ++q) {
     const int k = set_.harmonics()[static_cast<size_t>(q)];
-    const int ic = fft_->cos_index[static_cast<size_t>(q)];
-    if (k == 0) {
-      if (times_derivative) continue;  // m·D's column of the constant is zero
-      ProductColumns(q, cos_work.data(), nullptr);
-      target.col(ic) += scale * cos_work;
-      continue;
-    }
-    ProductColumns(q, cos_work.data(), sin_work.data());
+    double* const cos_target = target.col(fft_->cos_index[static_cast<size_t>(q)]).data();
     if (times_derivative) {
-      // ±k·m first, as AddTimesDerivative rounds it.
-      target.col(ic) += scale * (-k * sin_work);
-      target.col(ic + 1) += scale * (k * cos_work);
+      if (k == 0) continue;  // m·D's column of the constant is zero
+      // (m·D)(:, cos k) = −k·m(:, sin k) and (m·D)(:, sin k) = k·m(:, cos k): ±k·m first, as
+      // AddTimesDerivative rounds it.
+      double* const sin_target = cos_target + target.outerStride();
+      ForEachProductEntry(q, [&](int row, int column, double value) {
+        if (column == 0) {
+          sin_target[row] += scale * (k * value);
+        } else {
+          cos_target[row] += scale * (-k * value);
+        }
+      });
     } else {
-      target.col(ic) += scale * cos_work;
-      target.col(ic + 1) += scale * sin_work;
+      ForEachProductEntry(q, [&](int row, int column, double value) {
+        cos_target[row + column * target.outerStride()] += scale * value;
+      });
     }
   }
 }

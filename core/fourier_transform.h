@@ -65,11 +65,13 @@ class FourierTransform {
                           bool times_derivative, Eigen::Ref<Eigen::MatrixXd> target) const;
 
  private:
-  // The table of (C_m, S_m) of the weights that ProductColumns reads.
+  // The table of (C_m, S_m) of the weights that ForEachProductEntry reads.
   void TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& weights) const;
-  // Columns cos k and sin k (harmonic position q) of P·diag(w)·E from the table; sin_column is
-  // not written for the constant.
-  void ProductColumns(int q, double* cos_column, double* sin_column) const;
+  // put(row, column, value) for each entry of the column pair cos k, sin k (harmonic
+  // position q; column 0 or 1) of P·diag(w)·E, from the table; the constant has no sine
+  // column. Each entry once: a caller writes or accumulates it where it belongs.
+  template <typename Put>
+  void ForEachProductEntry(int q, Put put) const;
 
   struct FftState;
   HarmonicSet set_;
