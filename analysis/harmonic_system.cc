@@ -1,7 +1,6 @@
 #include "analysis/harmonic_system.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -102,28 +101,6 @@ void HarmonicSystem::BindLaws() {
   }
   bound_ = true;
 }
-
-namespace {
-
-// One pass over the entries: a sum is finite exactly when every entry is (barring an
-// overflow of the sum itself, which is as much an overflow to report). Eight partial sums,
-// as one running sum waits on each addition (the Jacobian's was 4 % of point E's trace).
-template <typename Dense>
-bool AllFinite(const Dense& m) {
-  const double* x = m.data();
-  const Eigen::Index n = m.size();
-  std::array<double, 8> partial{};
-  Eigen::Index i = 0;
-  for (; i + 8 <= n; i += 8) {
-    for (size_t k = 0; k < 8; ++k) partial[k] += x[i + static_cast<Eigen::Index>(k)];
-  }
-  double sum = 0.0;
-  for (; i < n; ++i) sum += x[i];
-  for (const double p : partial) sum += p;
-  return std::isfinite(sum);
-}
-
-}  // namespace
 
 void HarmonicSystem::MoveTo(double omega) {
   if (omega == cached_omega_) return;

@@ -15,15 +15,6 @@ Evaluator::Evaluator(ContinuationProblem& problem)
   }
 }
 
-namespace {
-
-// Whether every entry is finite, by one vectorised sum: x·0 is 0 for finite x and NaN for
-// ±∞ or NaN. (Eigen's allFinite tests entry by entry with an early exit, a scalar loop that
-// took 6 % of the N_φ = 160 friction curve on its 640 × 640 Jacobians.)
-bool AllFinite(const Eigen::MatrixXd& matrix) { return (matrix.array() * 0.0).sum() == 0.0; }
-
-}  // namespace
-
 bool Evaluator::Linearize(const Eigen::VectorXd& u, Linearization* result) {
   ++num_evaluations_;
   if (!u.allFinite()) return false;

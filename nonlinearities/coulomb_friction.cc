@@ -144,8 +144,11 @@ std::optional<PhaseCount> CoulombFriction::StickPhases(const NonlinearityContext
   return CountPhases(stuck, 1.0 / ctx.harmonic_set().max_harmonic());
 }
 
-LawReport CoulombFriction::ReportOf(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
-                                    const Eigen::VectorXd& v) const {
+LawReport CoulombFriction::Report(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
+                                  double omega, const FourierTransform& fine) const {
+  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
+  const Eigen::VectorXd& r = signals[0].samples;
+  const Eigen::VectorXd& v = signals[1].samples;
   LawReport report;
   if (parameters_.limit > 0.0) {
     report.diagnostics["max_force_ratio"] = r.cwiseAbs().maxCoeff() / parameters_.limit;
@@ -156,12 +159,6 @@ LawReport CoulombFriction::ReportOf(const NonlinearityContext& ctx, const Eigen:
     report.summary.phase = LawSummary::Phase{"stick", phases->count, phases->fraction};
   }
   return report;
-}
-
-LawReport CoulombFriction::Report(const NonlinearityContext& ctx, const Eigen::VectorXd& y,
-                                  double omega, const FourierTransform& fine) const {
-  const std::vector<LawSignal> signals = Signals(ctx, y, omega, fine);
-  return ReportOf(ctx, signals[0].samples, signals[1].samples);
 }
 
 std::map<std::string, double> CoulombFriction::Diagnostics(const NonlinearityContext& ctx,

@@ -70,9 +70,6 @@ class CoulombFriction : public Nonlinearity {
   // stick branch. Phases shorter than the period of the highest harmonic are ripple.
   std::optional<PhaseCount> StickPhases(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
                                         const Eigen::VectorXd& v) const;
-  // Report from the fine grid's force r and velocity v (Signals).
-  LawReport ReportOf(const NonlinearityContext& ctx, const Eigen::VectorXd& r,
-                     const Eigen::VectorXd& v) const;
 
   int dof_;
   int other_;
