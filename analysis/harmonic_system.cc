@@ -103,11 +103,18 @@ void HarmonicSystem::BindLaws() {
 }
 
 void HarmonicSystem::MoveTo(double omega) {
-  if (omega == cached_omega_) return;
+  // The condensation may have moved alone (Recover's callers need no real forms).
+  if (omega == cached_omega_ && condensation_.omega() == omega) return;
   condensation_.Update(omega);
   if (!bound_) BindLaws();
-  z_ = condensation_.RealOperator();
-  dz_ = condensation_.RealOperatorDerivative();
+  const int n = condensation_.num_unknowns();
+  if (z_.rows() != n) {
+    // Zeroed once: WriteRealOperator refreshes only the entries the layout can fill.
+    z_.setZero(n, n);
+    dz_.setZero(n, n);
+  }
+  condensation_.WriteRealOperator(false, z_);
+  condensation_.WriteRealOperator(true, dz_);
   f_ = condensation_.RealForcing();
   df_ = condensation_.RealForcingDerivative();
   cached_omega_ = omega;
@@ -120,17 +127,18 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     const int nx = num_displacement_unknowns_;
     const auto x = y.head(nx);
     residual->setZero(num_unknowns_);
-    residual->head(nx) = z_ * x - f_;
+    residual->head(nx).noalias() = z_ * x;
+    residual->head(nx) -= f_;
     if (jacobian_y != nullptr) {
-      const int own = num_unknowns_ - nx;  // the laws' own unknowns, after the displacements
-      jacobian_y->resize(num_unknowns_, num_unknowns_);
-      jacobian_y->topLeftCorner(nx, nx) = z_;
-      jacobian_y->bottomLeftCorner(own, nx).setZero();
-      jacobian_y->rightCols(own).setZero();
+      // z_'s entries outside the layout's blocks are zero: one fill, then the blocks (not a
+      // copy of z_, most of which is zeros when harmonics do not couple).
+      jacobian_y->setZero(num_unknowns_, num_unknowns_);
+      condensation_.WriteRealOperator(false, jacobian_y->topLeftCorner(nx, nx));
     }
     if (jacobian_omega != nullptr) {
       jacobian_omega->setZero(num_unknowns_);
-      jacobian_omega->head(nx) = dz_ * x - df_;
+      jacobian_omega->head(nx).noalias() = dz_ * x;
+      jacobian_omega->head(nx) -= df_;
     }
     for (size_t i = 0; i < laws_.size(); ++i) {
       laws_[i]->Evaluate(contexts_[i], y, omega, *residual, jacobian_y, jacobian_omega);
@@ -268,12 +276,12 @@ Eigen::VectorXd HarmonicSystem::DofCoefficients(const Eigen::VectorXd& y, double
   if (found != retained_.end() && !has_obstacles_) {
     return y.segment(static_cast<int>(found - retained_.begin()) * nc, nc);
   }
-  MoveTo(omega);
+  condensation_.Update(omega);
   return condensation_.Recover(y.head(num_displacement_unknowns_)).row(dof).transpose();
 }
 
 Eigen::MatrixXd HarmonicSystem::AllDofCoefficients(const Eigen::VectorXd& y, double omega) {
-  MoveTo(omega);
+  condensation_.Update(omega);
   return condensation_.Recover(y.head(num_displacement_unknowns_));
 }
 

@@ -167,6 +167,8 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     for (const int own : owns) slot[static_cast<size_t>(own)] = -1;
   };
   std::map<std::vector<int>, int> group_of;  // own rows → group
+  // Whether a block's position reaches an own row; cleared after each block.
+  std::vector<bool> reaches(static_cast<size_t>(kMaxBlock), false);
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const int nb = static_cast<int>(block.unknowns.size());
@@ -196,12 +198,12 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     const auto [entry, added] = group_of.try_emplace(own_rows, static_cast<int>(groups_.size()));
     if (added) groups_.push_back(RowGroup{std::move(own_rows), {}, 0, {}, {}});
     block.group = entry->second;
-    std::vector<bool> reaches(static_cast<size_t>(nb), false);
     for (const Coupling& e : from_own[k]) {
       if (reaches[static_cast<size_t>(e.position)]) continue;
       reaches[static_cast<size_t>(e.position)] = true;
       block.row_positions.push_back(e.position);
     }
+    for (const int position : block.row_positions) reaches[static_cast<size_t>(position)] = false;
     RowGroup& group = groups_[static_cast<size_t>(block.group)];
     block.reach_offset = group.width;
     group.width += static_cast<int>(block.row_positions.size());
@@ -213,6 +215,7 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     group.row_work.resize(static_cast<Eigen::Index>(group.own_rows.size()));
   }
   std::vector<int> column_of(static_cast<size_t>(kMaxBlock), -1);  // a position's reaching column
+  Eigen::MatrixXd update;  // a block's H(own_rows, B) H(B, B)⁻¹ H(B, own_columns)
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     if (block.group < 0) continue;
@@ -232,8 +235,8 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     release(group.own_rows);
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
     if (!block.own_columns.empty()) {
-      const Eigen::MatrixXd update = group.rows.middleCols(block.reach_offset, nreach) *
-                                     block.eliminated(block.row_positions, Eigen::all);
+      update.noalias() = group.rows.middleCols(block.reach_offset, nreach) *
+                         block.eliminated(block.row_positions, Eigen::all);
       schur(group.own_rows, block.own_columns) -= update;
     }
   }

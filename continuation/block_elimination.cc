@@ -152,7 +152,8 @@ bool BlockElimination::Refactor(const Matrix& a, const EliminationBlocks& blocks
     // the solutions bit for bit those of the joint solve [A_B,coupled b_B] that it replaced.
     right_.setZero(nb, nc + 1);
     right_.leftCols(nc) = block.coupling;
-    block.eliminated = block.lu.solve(right_).leftCols(nc);
+    solved_ = block.lu.solve(right_);  // into the kept storage: no temporary per block
+    block.eliminated = solved_.leftCols(nc);
   }
   return true;
 }

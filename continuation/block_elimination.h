@@ -102,10 +102,11 @@ class BlockElimination {
   std::vector<Block> blocks_;
   int sign_ = 1;
   // Refactor's work: each unknown's block (−1: the rest's), the blocks' rows ascending, and
-  // a block's coupling with a last zero column.
+  // a block's coupling with a last zero column, and its solution.
   std::vector<int> block_of_;
   std::vector<int> block_rows_;
   Eigen::MatrixXd right_;
+  Eigen::MatrixXd solved_;
 };
 
 }  // namespace nfrc

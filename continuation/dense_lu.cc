@@ -55,11 +55,31 @@ void OneBlasThreadUnlessChosen() {
   (void)chosen;
 }
 
-// The permutation's sign times the pivots' signs.
-int WithPivotSigns(int permutation_sign, const Eigen::VectorXd& pivots) {
+// The permutation's sign times the pivots' signs (read in place from the factors' diagonal).
+template <typename Diagonal>
+int WithPivotSigns(int permutation_sign, const Diagonal& pivots) {
   int sign = permutation_sign;
   for (Eigen::Index i = 0; i < pivots.size(); ++i) {
     if (pivots(i) < 0.0) sign = -sign;
+  }
+  return sign;
+}
+
+// The sign of the permutation i ↦ indices(i), from its cycles (one of length L is L − 1
+// swaps), each counted at its smallest index. No scratch: Eigen's determinant() allocates a
+// mask, and every elimination asks this of each of its blocks.
+int PermutationSign(const Eigen::VectorXi& indices) {
+  int sign = 1;
+  for (Eigen::Index i = 0; i < indices.size(); ++i) {
+    Eigen::Index length = 1;
+    bool smallest = true;
+    for (Eigen::Index j = indices(i); j != i; j = indices(j), ++length) {
+      if (j < i) {
+        smallest = false;
+        break;
+      }
+    }
+    if (smallest && length % 2 == 0) sign = -sign;
   }
   return sign;
 }
@@ -94,7 +114,7 @@ Eigen::VectorXd DenseLu::Pivots() const {
 }
 
 int DenseLu::DeterminantSign() const {
-  const Eigen::VectorXd pivots = Pivots();
+  const auto pivots = lapack_ ? factors_.diagonal() : eigen_.matrixLU().diagonal();
   if ((pivots.array() == 0.0).any()) return 0;
   if (!lapack_) return size_ > 0 ? nfrc::DeterminantSign(eigen_) : 1;
   int interchanges = 1;  // the permutation's sign, from LAPACK's 1-based row swaps
@@ -143,8 +163,7 @@ bool PivotsAbove(const Eigen::VectorXd& pivots, double ratio) {
 bool PivotsAbove(const DenseLu& lu, double ratio) { return PivotsAbove(lu.Pivots(), ratio); }
 
 int DeterminantSign(const Eigen::PartialPivLU<Eigen::MatrixXd>& lu) {
-  return WithPivotSigns(static_cast<int>(lu.permutationP().determinant()),
-                        lu.matrixLU().diagonal());
+  return WithPivotSigns(PermutationSign(lu.permutationP().indices()), lu.matrixLU().diagonal());
 }
 
 }  // namespace nfrc

@@ -404,12 +404,12 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
   const int n_c = set_.NumCoefficients();
   Eigen::MatrixXd result(model_.num_dofs(), n_c);
   Eigen::MatrixXcd x_l(impl.n_l, 1);
+  Eigen::VectorXcd x_r(impl.n_r), all;
   for (int p = 0; p < set_.num_harmonics(); ++p) {
     const int k = set_.harmonics()[p];
     const int ic = set_.CosIndex(p);
     const int is = set_.SinIndex(p);
     // X_r = a − i·b (a_0 alone for k = 0), then x_l = Z_ll⁻¹ (F_l − Z_lr X_r).
-    Eigen::VectorXcd x_r(impl.n_r);
     for (int i = 0; i < impl.n_r; ++i) {
       x_r(i) = Complex(x(i * n_c + ic), k == 0 ? 0.0 : -x(i * n_c + is));
     }
@@ -425,8 +425,8 @@ Eigen::MatrixXd Condensation::Recover(const Eigen::Ref<const Eigen::VectorXd>& x
     if (impl.n_l == 0) continue;
     const Weights w = StiffnessWeights(k, omega_);
     if (impl.modal_used[p]) {
-      const Eigen::VectorXcd all = impl.modal->Recover(impl.modal_inverse[p], impl.modal_forcing[p],
-                                                       impl.ModalZ(p), impl.ModalF(p), x_r);
+      impl.modal->Recover(impl.modal_inverse[p], impl.modal_forcing[p], impl.ModalZ(p),
+                          impl.ModalF(p), x_r, &all);
       for (int l = 0; l < impl.n_l; ++l) x_l(l) = all(impl.condensed[l]);
     } else if (impl.split) {
       // x_l = Φ x_r + Z_ll⁻¹ (F_l − EᵀDT x_r): Z_lr = EᵀDT − Z_ll Φ.

@@ -91,6 +91,11 @@ class Condensation {
   Eigen::MatrixXd RealOperatorDerivative() const;
   Eigen::VectorXd RealForcing() const;
   Eigen::VectorXd RealForcingDerivative() const;
+  // RealOperator() (or its derivative) written into `out`, num_unknowns() square: only the
+  // entries the layout can make nonzero (the 2 × 2 block of each harmonic and retained pair)
+  // are written, the others are left as they are. A cache zeroed once is then refreshed at
+  // each ω without a fresh matrix, and a zeroed Jacobian takes the operator without a copy.
+  void WriteRealOperator(bool derivative, Eigen::Ref<Eigen::MatrixXd> out) const;
   // Rows of RealOperator() (or of its derivative) belonging to retained DOF i
   // (NumCoefficients × num_unknowns), and the matching rows of the forcing.
   Eigen::MatrixXd RealOperatorRows(int i, bool derivative) const;

@@ -11,9 +11,9 @@ using Complex = std::complex<double>;
 
 // Writes the rows of retained DOF i at row offset `first_row` of `out`: each complex entry
 // z of harmonic k becomes [[Re, Im], [−Im, Re]] on (a_k, b_k), only Re for k = 0.
-template <typename Blocks>
+template <typename Blocks, typename Out>
 void PutRows(const HarmonicSet& set, int i, int num_retained, const Blocks& block, int first_row,
-             Eigen::MatrixXd* out) {
+             Out* out) {
   const int n_c = set.NumCoefficients();
   for (int p = 0; p < set.num_harmonics(); ++p) {
     const int ic = set.CosIndex(p);
@@ -73,6 +73,18 @@ Eigen::MatrixXd Condensation::RealOperator() const {
 
 Eigen::MatrixXd Condensation::RealOperatorDerivative() const {
   return Whole(set_, num_retained(), [this](int p) -> const Eigen::MatrixXcd& { return dZ(p); });
+}
+
+void Condensation::WriteRealOperator(bool derivative, Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (out.rows() != num_unknowns() || out.cols() != num_unknowns()) {
+    throw std::invalid_argument("out: must be num_unknowns() square");
+  }
+  const auto block = [this, derivative](int p) -> const Eigen::MatrixXcd& {
+    return derivative ? dZ(p) : Z(p);
+  };
+  for (int i = 0; i < num_retained(); ++i) {
+    PutRows(set_, i, num_retained(), block, i * set_.NumCoefficients(), &out);
+  }
 }
 
 Eigen::VectorXd Condensation::RealForcing() const {

@@ -63,6 +63,7 @@ std::unique_ptr<ModalReceptance> ModalReceptance::Make(const LinearModel& model,
   }
   modal->stiffness_ = lambda;
   modal->retained_modes_ = modal->modes_(retained, Eigen::all);
+  modal->retained_modes_t_ = modal->retained_modes_.transpose().cast<Complex>();
   modal->largest_retained_square_ = modal->retained_modes_.cwiseAbs2().maxCoeff();
   return modal;
 }
@@ -152,19 +153,20 @@ bool ModalReceptance::Condense(int k, double omega, const Eigen::VectorXcd& moda
   return true;
 }
 
-Eigen::VectorXcd ModalReceptance::Recover(const Eigen::VectorXcd& inverse,
-                                          const Eigen::VectorXcd& modal_forcing,
-                                          const Eigen::MatrixXcd& z, const Eigen::VectorXcd& f,
-                                          const Eigen::VectorXcd& x_r) const {
-  const Eigen::VectorXcd interface = f - z * x_r;
-  const Eigen::VectorXcd modal =
-      (modal_forcing - retained_modes_.transpose().cast<Complex>() * interface)
-          .cwiseProduct(inverse);
+void ModalReceptance::Recover(const Eigen::VectorXcd& inverse,
+                              const Eigen::VectorXcd& modal_forcing, const Eigen::MatrixXcd& z,
+                              const Eigen::VectorXcd& f, const Eigen::VectorXcd& x_r,
+                              Eigen::VectorXcd* x) const {
+  // The products into the work arrays, then the differences: the operations (and roundings)
+  // of f − z x_r and (F − Φ_rᵀ g) ⊙ (1/d), without a temporary per harmonic.
+  interface_.noalias() = z * x_r;
+  interface_ = f - interface_;
+  modal_.noalias() = retained_modes_t_ * interface_;
+  modal_ = (modal_forcing - modal_).cwiseProduct(inverse);
   // Φ is real: two real products instead of a complex copy of the n × n modes per harmonic.
-  Eigen::VectorXcd x(num_dofs());
-  x.real() = modes_ * modal.real();
-  x.imag() = modes_ * modal.imag();
-  return x;
+  x->resize(num_dofs());
+  x->real() = modes_ * modal_.real();
+  x->imag() = modes_ * modal_.imag();
 }
 
 void ModalReceptance::Rounding(const Eigen::VectorXcd& inverse,

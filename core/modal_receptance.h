@@ -46,10 +46,10 @@ class ModalReceptance {
 
   // Complex amplitudes of every DOF given the retained DOFs' amplitudes x_r (absolute) and
   // inverse, z, f of Condense: x = H (F − P_rᵀ g) with the interface force
-  // g = F_red − Z_red x_r.
-  Eigen::VectorXcd Recover(const Eigen::VectorXcd& inverse, const Eigen::VectorXcd& modal_forcing,
-                           const Eigen::MatrixXcd& z, const Eigen::VectorXcd& f,
-                           const Eigen::VectorXcd& x_r) const;
+  // g = F_red − Z_red x_r. Into x (resized to num_dofs()); not thread-safe (work arrays).
+  void Recover(const Eigen::VectorXcd& inverse, const Eigen::VectorXcd& modal_forcing,
+               const Eigen::MatrixXcd& z, const Eigen::VectorXcd& f, const Eigen::VectorXcd& x_r,
+               Eigen::VectorXcd* x) const;
 
   // Entry-wise rounding estimates of z (from Condense, with its inverse) and of f, in
   // Condensation::EstimateRounding's units: the modal sums carry n·eps of the sum of their
@@ -71,12 +71,13 @@ class ModalReceptance {
 
   Eigen::MatrixXd modes_;                 // n × n, columns mass-normalised
   Eigen::MatrixXd retained_modes_;        // n_r × n: the retained DOFs' rows of modes_
+  Eigen::MatrixXcd retained_modes_t_;     // n × n_r: its complex transpose, for Recover
   Eigen::VectorXd stiffness_;             // λ_m = ω_m²
   Eigen::VectorXd damping_;               // c_m = φ_mᵀ C φ_m
   double largest_retained_square_ = 0.0;  // max φ_rm², for the pivot floor of H_rr
-  // Work arrays of Condense.
+  // Work arrays of Condense and Recover.
   mutable Eigen::MatrixXcd h_;
-  mutable Eigen::VectorXcd rate_, response_, d_response_;
+  mutable Eigen::VectorXcd rate_, response_, d_response_, interface_, modal_;
 };
 
 }  // namespace nfrc::internal

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <utility>
+#include <vector>
 
 namespace nfrc {
 namespace {
@@ -61,6 +63,40 @@ TEST_CASE("dense LU: the determinant's sign, from the pivots and the row interch
         lu.Compute(a, lapack);
         CHECK(lu.DeterminantSign() == (negatives % 2 == 0 ? 1 : -1));
       }
+    }
+  }
+}
+
+// A = P D with P a permutation of known cycles and D positive: det A = sign(P) exactly. A
+// cycle of length L is L − 1 interchanges; the LU's own interchanges need not be P's.
+TEST_CASE("dense LU: the determinant's sign of permuted diagonal matrices") {
+  const int n = 7;
+  const std::vector<std::pair<std::vector<std::vector<int>>, int>> permutations = {
+      {{}, 1},
+      {{{0, 1, 2}}, 1},
+      {{{0, 1, 2, 3}}, -1},
+      {{{0, 1}, {2, 3}}, 1},
+      {{{0, 1, 2, 3, 4, 5, 6}}, 1},
+      {{{0, 3}, {1, 5, 2}}, -1},
+      {{{6, 0}}, -1},
+  };
+  for (const auto& [cycles, sign] : permutations) {
+    std::vector<int> image(n);
+    for (int i = 0; i < n; ++i) image[i] = i;
+    for (const std::vector<int>& cycle : cycles) {
+      for (size_t k = 0; k < cycle.size(); ++k) image[cycle[k]] = cycle[(k + 1) % cycle.size()];
+    }
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) a(image[i], i) = 1.0 + 0.1 * i;
+    for (const bool lapack : {false, true}) {
+      INFO(cycles.size() << " cycles, " << (lapack ? "LAPACK" : "Eigen"));
+      DenseLu lu;
+      lu.Compute(a, lapack);
+      CHECK(lu.DeterminantSign() == sign);
+      a.col(0) *= -1.0;
+      lu.Compute(a, lapack);
+      CHECK(lu.DeterminantSign() == -sign);
+      a.col(0) *= -1.0;
     }
   }
 }

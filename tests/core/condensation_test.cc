@@ -186,6 +186,48 @@ TEST_CASE("Condensation real operator is the documented arrangement of the compl
   CHECK(real(1 * n_c + 0, 0 * n_c + 4) == 0.0);
 }
 
+// WriteRealOperator fills the layout's blocks only: a matrix of a sentinel shows both the
+// entries it writes (RealOperator's, bit for bit) and the ones it must leave (RealOperator's
+// zeros), in a whole matrix and in the corner of a larger one (a Jacobian's).
+TEST_CASE("Condensation writes its real operator's blocks in place and nothing else") {
+  const LinearModel model = RandomModel(5, false, 3);
+  const HarmonicSet set(3, false);
+  const std::vector<int> retained = {3, 0};
+  const std::vector<ForcingTerm> forcing = {{.dof = 1, .harmonic = 2, .cos = 1.0, .sin = 2.0}};
+  Condensation condensation(model, retained, set, forcing);
+  constexpr double kSentinel = 12345.0;
+  for (const double omega : {0.7, 1.9}) {
+    condensation.Update(omega);
+    for (const bool derivative : {false, true}) {
+      CAPTURE(omega);
+      CAPTURE(derivative);
+      const Eigen::MatrixXd real =
+          derivative ? condensation.RealOperatorDerivative() : condensation.RealOperator();
+      const Eigen::Index n = real.rows();
+      Eigen::MatrixXd whole = Eigen::MatrixXd::Constant(n, n, kSentinel);
+      condensation.WriteRealOperator(derivative, whole);
+      Eigen::MatrixXd larger = Eigen::MatrixXd::Constant(n + 3, n + 2, kSentinel);
+      condensation.WriteRealOperator(derivative, larger.topLeftCorner(n, n));
+      int written = 0;
+      for (Eigen::Index j = 0; j < n; ++j) {
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const bool in_layout = whole(i, j) != kSentinel;
+          written += in_layout ? 1 : 0;
+          CHECK(whole(i, j) == (in_layout ? real(i, j) : kSentinel));
+          CHECK(larger(i, j) == whole(i, j));
+          if (!in_layout) CHECK(real(i, j) == 0.0);
+        }
+      }
+      // A 2 × 2 block per harmonic and retained pair, one entry for the constant.
+      CHECK(written == 4 * (1 + 4 * (set.num_harmonics() - 1)));
+      CHECK((larger.bottomRows(3).array() == kSentinel).all());
+      CHECK((larger.rightCols(2).array() == kSentinel).all());
+    }
+  }
+  Eigen::MatrixXd wrong(3, 3);
+  CHECK_THROWS_AS(condensation.WriteRealOperator(false, wrong), std::invalid_argument);
+}
+
 TEST_CASE("Condensation with every DOF retained is the plain dynamic stiffness") {
   const LinearModel model = RandomModel(4, false, 4);
   const HarmonicSet set(2, false);
