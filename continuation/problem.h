@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <cassert>
 #include <vector>
 
 namespace nfrc {
@@ -27,6 +28,7 @@ class PlotCurve {
 // NaN for ±∞ or NaN, summed in eight partial sums (Eigen's allFinite exits early entry by
 // entry, and one running sum waits on each addition: 4–6 % of the N_φ = 160 friction curve).
 inline bool AllFinite(const Eigen::Ref<const Eigen::MatrixXd>& m) {
+  assert(m.cols() <= 1 || m.outerStride() == m.rows());  // read as one run of m.size()
   const double* x = m.data();
   const Eigen::Index n = m.size();
   std::array<double, 8> partial{};

@@ -41,17 +41,7 @@ void PutEntries(const HarmonicSet& set, int i, const Vectors& vector, int first_
   }
 }
 
-// Every retained DOF's rows: the whole operator (or forcing) in the real layout.
-template <typename Blocks>
-Eigen::MatrixXd Whole(const HarmonicSet& set, int num_retained, const Blocks& block) {
-  const int n = num_retained * set.NumCoefficients();
-  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < num_retained; ++i) {
-    PutRows(set, i, num_retained, block, i * set.NumCoefficients(), &real);
-  }
-  return real;
-}
-
+// Every retained DOF's entries: the whole forcing in the real layout.
 template <typename Vectors>
 Eigen::VectorXd WholeVector(const HarmonicSet& set, int num_retained, const Vectors& vector) {
   Eigen::VectorXd real = Eigen::VectorXd::Zero(num_retained * set.NumCoefficients());
@@ -68,11 +58,15 @@ void CheckRetained(int i, int num_retained) {
 }  // namespace
 
 Eigen::MatrixXd Condensation::RealOperator() const {
-  return Whole(set_, num_retained(), [this](int p) -> const Eigen::MatrixXcd& { return Z(p); });
+  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
+  WriteRealOperator(false, real);
+  return real;
 }
 
 Eigen::MatrixXd Condensation::RealOperatorDerivative() const {
-  return Whole(set_, num_retained(), [this](int p) -> const Eigen::MatrixXcd& { return dZ(p); });
+  Eigen::MatrixXd real = Eigen::MatrixXd::Zero(num_unknowns(), num_unknowns());
+  WriteRealOperator(true, real);
+  return real;
 }
 
 void Condensation::WriteRealOperator(bool derivative, Eigen::Ref<Eigen::MatrixXd> out) const {
