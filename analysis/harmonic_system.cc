@@ -120,6 +120,18 @@ void HarmonicSystem::MoveTo(double omega) {
   cached_omega_ = omega;
 }
 
+void HarmonicSystem::ApplyOperator(bool derivative, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                   Eigen::Ref<Eigen::VectorXd> out) const {
+  // One retained DOF (a friction contact): its blocks alone, the same bits as the dense
+  // product (see ApplyRealOperator), which passed over nx² entries, mostly zeros. With more,
+  // the dense product: its blocking fixes the order of each row's sum, which the traces keep.
+  if (condensation_.num_retained() == 1) {
+    condensation_.ApplyRealOperator(derivative, x, out);
+  } else {
+    out.noalias() = (derivative ? dz_ : z_) * x;
+  }
+}
+
 bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
                               Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) {
   try {
@@ -127,7 +139,7 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     const int nx = num_displacement_unknowns_;
     const auto x = y.head(nx);
     residual->setZero(num_unknowns_);
-    residual->head(nx).noalias() = z_ * x;
+    ApplyOperator(false, x, residual->head(nx));
     residual->head(nx) -= f_;
     if (jacobian_y != nullptr) {
       // z_'s entries outside the layout's blocks are zero: one fill, then the blocks (not a
@@ -137,7 +149,7 @@ bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::Vec
     }
     if (jacobian_omega != nullptr) {
       jacobian_omega->setZero(num_unknowns_);
-      jacobian_omega->head(nx).noalias() = dz_ * x;
+      ApplyOperator(true, x, jacobian_omega->head(nx));
       jacobian_omega->head(nx) -= df_;
     }
     for (size_t i = 0; i < laws_.size(); ++i) {

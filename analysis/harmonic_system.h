@@ -78,6 +78,9 @@ class HarmonicSystem : public ContinuationProblem {
 
  private:
   void MoveTo(double omega);
+  // out = (the cached operator or its ω-derivative)·x, after MoveTo.
+  void ApplyOperator(bool derivative, const Eigen::Ref<const Eigen::VectorXd>& x,
+                     Eigen::Ref<Eigen::VectorXd> out) const;
   // Calls every law's Bind once the condensation exists; InputError names the law.
   void BindLaws();
 

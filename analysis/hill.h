@@ -100,6 +100,10 @@ HillPencil AssembleHillPencil(HarmonicSystem& system, const Eigen::VectorXd& y, 
 int DisplacementEnd(const HillPencil& pencil);
 // The harmonic (position in pencil.set) of each of those unknowns, for HillLinearSolver.
 std::vector<int> DisplacementHarmonics(const HillPencil& pencil);
+// Hill's matrix H(σ) = Δ0 + σΔ1 + σ²Δ2, compressed, rounded as Eigen's sparse sums round
+// (Δ0 + σΔ1) + σ²Δ2 (a term missing from one side is a zero added). d0, d1 and d2 must be
+// compressed.
+Eigen::SparseMatrix<double> HillMatrix(const HillPencil& pencil, double sigma);
 
 struct HillOptions {
   // |μ| > 1 + unstable_tolerance counts as unstable (StabilityOptions).

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cassert>
 #include <map>
+#include <memory>
 #include <numeric>
+#include <span>
 
 #include "continuation/block_elimination.h"
 
@@ -127,7 +129,22 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     const int nb = static_cast<int>(blocks_[k].unknowns.size());
     block_matrices[k] = Eigen::MatrixXd::Zero(nb, nb);
   }
-  std::vector<std::vector<Coupling>> to_own(blocks_.size()), from_own(blocks_.size());
+  // A block's couplings from the Schur rows, side by side in one array: each block has its
+  // columns' lengths reserved (an upper bound), filled from from_start[k] to from_end[k].
+  const auto column_length = [&](int j) {
+    return matrix.isCompressed() ? matrix.outerIndexPtr()[j + 1] - matrix.outerIndexPtr()[j]
+                                 : matrix.innerNonZeroPtr()[j];
+  };
+  std::vector<int> from_start(blocks_.size() + 1, 0);
+  for (int j = 0; j < size_; ++j) {
+    if (!in_schur(j))
+      from_start[static_cast<size_t>(block_of[static_cast<size_t>(j)]) + 1] += column_length(j);
+  }
+  std::partial_sum(from_start.begin(), from_start.end(), from_start.begin());
+  std::vector<int> from_end(from_start.begin(), from_start.end() - 1);
+  const auto from_own =
+      std::make_unique_for_overwrite<Coupling[]>(static_cast<size_t>(from_start.back()));
+  std::vector<std::vector<Coupling>> to_own(blocks_.size());
   Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nr, nr);
   for (int j = 0; j < size_; ++j) {
     const int schur_j = schur_position_[static_cast<size_t>(j)];
@@ -137,8 +154,8 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
       if (schur_j < 0) {
         const int k = block_of[static_cast<size_t>(j)];
         if (schur_i >= 0) {
-          from_own[static_cast<size_t>(k)].push_back(
-              {position[static_cast<size_t>(j)], schur_i, it.value()});
+          from_own[static_cast<size_t>(from_end[static_cast<size_t>(k)]++)] = {
+              position[static_cast<size_t>(j)], schur_i, it.value()};
         } else if (block_of[static_cast<size_t>(i)] == k) {
           // A stored zero may sit between two blocks: only this block's own entries count.
           block_matrices[static_cast<size_t>(k)](position[static_cast<size_t>(i)],
@@ -152,23 +169,20 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
       }
     }
   }
+  const auto from_own_of = [&](size_t k) {
+    return std::span<const Coupling>(from_own.get() + from_start[k],
+                                     static_cast<size_t>(from_end[k] - from_start[k]));
+  };
 
   std::vector<int> slot(static_cast<size_t>(nr), -1);  // an own unknown's place in a block's list
-  // The distinct own unknowns of `entries` in order of appearance, into `owns`, with slot set.
-  const auto collect = [&](const std::vector<Coupling>& entries, std::vector<int>* owns) {
-    for (const Coupling& e : entries) {
-      if (slot[static_cast<size_t>(e.own)] < 0) {
-        slot[static_cast<size_t>(e.own)] = static_cast<int>(owns->size());
-        owns->push_back(e.own);
-      }
-    }
-  };
   const auto release = [&](const std::vector<int>& owns) {
     for (const int own : owns) slot[static_cast<size_t>(own)] = -1;
   };
   std::map<std::vector<int>, int> group_of;  // own rows → group
   // Whether a block's position reaches an own row; cleared after each block.
-  std::vector<bool> reaches(static_cast<size_t>(kMaxBlock), false);
+  std::vector<char> reaches(static_cast<size_t>(kMaxBlock), 0);
+  std::vector<int> own_rows;  // a block's, before it finds its group
+  int last_group = -1;        // the previous block's: friction's blocks all share one
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const int nb = static_cast<int>(block.unknowns.size());
@@ -180,7 +194,12 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
       block.gather[static_cast<size_t>(lu.permutationP().indices()(i))] =
           block.unknowns[static_cast<size_t>(i)];
     }
-    collect(to_own[k], &block.own_columns);
+    for (const Coupling& e : to_own[k]) {
+      if (slot[static_cast<size_t>(e.own)] < 0) {
+        slot[static_cast<size_t>(e.own)] = static_cast<int>(block.own_columns.size());
+        block.own_columns.push_back(e.own);
+      }
+    }
     const int nc = static_cast<int>(block.own_columns.size());
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Zero(nb, nc);
     for (const Coupling& e : to_own[k]) {
@@ -190,20 +209,33 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
     // Zero-sized products are skipped: Eigen's kernels would bind references to null data.
     block.eliminated = nc > 0 ? Eigen::MatrixXd(lu.solve(coupling)) : coupling;
     block.solution.resize(nb);
-    if (from_own[k].empty()) continue;
-    std::vector<int> own_rows;
-    collect(from_own[k], &own_rows);
-    release(own_rows);
-    std::sort(own_rows.begin(), own_rows.end());
-    const auto [entry, added] = group_of.try_emplace(own_rows, static_cast<int>(groups_.size()));
-    if (added) groups_.push_back(RowGroup{std::move(own_rows), {}, 0, {}, {}});
-    block.group = entry->second;
-    for (const Coupling& e : from_own[k]) {
-      if (reaches[static_cast<size_t>(e.position)]) continue;
-      reaches[static_cast<size_t>(e.position)] = true;
-      block.row_positions.push_back(e.position);
+    const std::span<const Coupling> from = from_own_of(k);
+    if (from.empty()) continue;
+    // One pass: the distinct own rows, and the positions that reach them, in order of
+    // appearance.
+    own_rows.clear();
+    for (const Coupling& e : from) {
+      if (slot[static_cast<size_t>(e.own)] < 0) {
+        slot[static_cast<size_t>(e.own)] = 0;
+        own_rows.push_back(e.own);
+      }
+      if (!reaches[static_cast<size_t>(e.position)]) {
+        reaches[static_cast<size_t>(e.position)] = 1;
+        block.row_positions.push_back(e.position);
+      }
     }
-    for (const int position : block.row_positions) reaches[static_cast<size_t>(position)] = false;
+    release(own_rows);
+    for (const int position : block.row_positions) reaches[static_cast<size_t>(position)] = 0;
+    if (!std::is_sorted(own_rows.begin(), own_rows.end()))
+      std::sort(own_rows.begin(), own_rows.end());
+    if (last_group >= 0 && groups_[static_cast<size_t>(last_group)].own_rows == own_rows) {
+      block.group = last_group;
+    } else {
+      const auto [entry, added] = group_of.try_emplace(own_rows, static_cast<int>(groups_.size()));
+      if (added) groups_.push_back(RowGroup{own_rows, {}, 0, {}, {}});
+      block.group = entry->second;
+    }
+    last_group = block.group;
     RowGroup& group = groups_[static_cast<size_t>(block.group)];
     block.reach_offset = group.width;
     group.width += static_cast<int>(block.row_positions.size());
@@ -216,6 +248,7 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
   }
   std::vector<int> column_of(static_cast<size_t>(kMaxBlock), -1);  // a position's reaching column
   Eigen::MatrixXd update;  // a block's H(own_rows, B) H(B, B)⁻¹ H(B, own_columns)
+  int slotted_group = -1;
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     if (block.group < 0) continue;
@@ -225,14 +258,18 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
       column_of[static_cast<size_t>(block.row_positions[static_cast<size_t>(c)])] =
           block.reach_offset + c;
     }
-    for (size_t r = 0; r < group.own_rows.size(); ++r) {
-      slot[static_cast<size_t>(group.own_rows[r])] = static_cast<int>(r);
+    // The slots hold the group's row places for as long as consecutive blocks share it.
+    if (block.group != slotted_group) {
+      if (slotted_group >= 0) release(groups_[static_cast<size_t>(slotted_group)].own_rows);
+      for (size_t r = 0; r < group.own_rows.size(); ++r) {
+        slot[static_cast<size_t>(group.own_rows[r])] = static_cast<int>(r);
+      }
+      slotted_group = block.group;
     }
-    for (const Coupling& e : from_own[k]) {
+    for (const Coupling& e : from_own_of(k)) {
       group.rows(slot[static_cast<size_t>(e.own)], column_of[static_cast<size_t>(e.position)]) =
           e.value;
     }
-    release(group.own_rows);
     // S −= H(own_rows, B) H(B, B)⁻¹ H(B, own_columns).
     if (!block.own_columns.empty()) {
       update.noalias() = group.rows.middleCols(block.reach_offset, nreach) *

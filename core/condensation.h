@@ -96,6 +96,12 @@ class Condensation {
   // are written, the others are left as they are. A cache zeroed once is then refreshed at
   // each ω without a fresh matrix, and a zeroed Jacobian takes the operator without a copy.
   void WriteRealOperator(bool derivative, Eigen::Ref<Eigen::MatrixXd> out) const;
+  // out = RealOperator()·x (or its derivative's), num_unknowns() each, from the layout's
+  // entries only, each row's sum in ascending column order from +0.0. With one retained DOF a
+  // row has at most two terms, so this is any dense product's result bit for bit; with more,
+  // a dense product's blocking may associate the terms otherwise (rounding apart).
+  void ApplyRealOperator(bool derivative, const Eigen::Ref<const Eigen::VectorXd>& x,
+                         Eigen::Ref<Eigen::VectorXd> out) const;
   // Rows of RealOperator() (or of its derivative) belonging to retained DOF i
   // (NumCoefficients × num_unknowns), and the matching rows of the forcing.
   Eigen::MatrixXd RealOperatorRows(int i, bool derivative) const;

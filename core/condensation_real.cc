@@ -1,5 +1,6 @@
 // The real, DOF-major layout of Condensation's per-harmonic complex operator and forcing:
 // the form the harmonic-balance residual uses (coefficients a_k, b_k of each retained DOF).
+#include <algorithm>
 #include <stdexcept>
 
 #include "core/condensation.h"
@@ -78,6 +79,42 @@ void Condensation::WriteRealOperator(bool derivative, Eigen::Ref<Eigen::MatrixXd
   };
   for (int i = 0; i < num_retained(); ++i) {
     PutRows(set_, i, num_retained(), block, i * set_.NumCoefficients(), &out);
+  }
+}
+
+void Condensation::ApplyRealOperator(bool derivative, const Eigen::Ref<const Eigen::VectorXd>& x,
+                                     Eigen::Ref<Eigen::VectorXd> out) const {
+  if (x.size() != num_unknowns() || out.size() != num_unknowns()) {
+    throw std::invalid_argument("x, out: must have num_unknowns() entries");
+  }
+  const int n_c = set_.NumCoefficients();
+  for (int p = 0; p < set_.num_harmonics(); ++p) {
+    const Eigen::MatrixXcd& z_p = derivative ? dZ(p) : Z(p);
+    const int ic = set_.CosIndex(p);
+    const int is = set_.SinIndex(p);
+    const bool constant = set_.harmonics()[static_cast<size_t>(p)] == 0;
+    // The cosine's and sine's columns in ascending order (PutRows's entries, row by row).
+    const int first = std::min(ic, is), second = std::max(ic, is);
+    for (int i = 0; i < num_retained(); ++i) {
+      double cos_row = 0.0, sin_row = 0.0;
+      for (int j = 0; j < num_retained(); ++j) {
+        const Complex z = z_p(i, j);
+        const double* xj = x.data() + static_cast<Eigen::Index>(j) * n_c;
+        if (constant) {
+          cos_row += z.real() * xj[ic];
+          continue;
+        }
+        // Row cos: (Re, Im) on (cos, sin); row sin: (−Im, Re).
+        const auto cos_entry = [&](int c) { return c == ic ? z.real() : z.imag(); };
+        const auto sin_entry = [&](int c) { return c == ic ? -z.imag() : z.real(); };
+        cos_row += cos_entry(first) * xj[first];
+        cos_row += cos_entry(second) * xj[second];
+        sin_row += sin_entry(first) * xj[first];
+        sin_row += sin_entry(second) * xj[second];
+      }
+      out(static_cast<Eigen::Index>(i) * n_c + ic) = cos_row;
+      if (!constant) out(static_cast<Eigen::Index>(i) * n_c + is) = sin_row;
+    }
   }
 }
 

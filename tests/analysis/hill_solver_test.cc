@@ -148,6 +148,39 @@ TEST_CASE("hill solver: blocks reaching different own rows, with pivoting inside
   CHECK(Difference(matrix, solver) <= kSameSolution);
 }
 
+// Groups that alternate along the blocks (the row places are kept while consecutive blocks
+// share a group and set again when it changes), a block whose own rows appear out of order,
+// and a matrix given uncompressed (its couplings are counted from the column lengths).
+TEST_CASE("hill solver: alternating row groups, own rows out of order, an uncompressed matrix") {
+  // Blocks {0, 1}, {2} and {3}; own unknowns 4–6. {0, 1} reaches row 6 from column 0 and row 4
+  // from column 1; {2} reaches row 5; {3} reaches rows 4 and 6 again, the first group.
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(7, 7);
+  dense.topLeftCorner(2, 2) << 2, 1,  //
+      1, 3;
+  dense(2, 2) = 1.5;
+  dense(3, 3) = -2.0;
+  dense.bottomRightCorner(3, 3) = Eigen::Vector3d(5.0, 6.0, 7.0).asDiagonal();
+  dense(6, 0) = 1.0;
+  dense(4, 1) = 0.5;
+  dense(5, 2) = 1.0;
+  dense(4, 3) = 2.0;
+  dense(6, 3) = -1.0;
+  for (int i = 0; i < 4; ++i) dense(i, 4 + i % 3) = 0.25 * (i + 1);
+  const Eigen::SparseMatrix<double> matrix = dense.sparseView();
+  const HillLinearSolver solver(matrix, 4);
+  REQUIRE(solver.ok());
+  REQUIRE(solver.eliminating());
+  CHECK(solver.num_row_groups() == 2);
+  CHECK(Difference(matrix, solver) <= kSameSolution);
+  Eigen::SparseMatrix<double> loose = matrix;
+  loose.reserve(Eigen::VectorXi::Constant(7, 2));  // room in every column: uncompressed
+  REQUIRE_FALSE(loose.isCompressed());
+  const HillLinearSolver from_loose(loose, 4);
+  REQUIRE(from_loose.eliminating());
+  CHECK(from_loose.num_row_groups() == 2);
+  CHECK(Difference(matrix, from_loose) <= kSameSolution);
+}
+
 TEST_CASE("hill solver: a singular block falls back to the sparse LU") {
   // Blocks {0, 1} and {2}, own unknown 3; block {0, 1} is singular, the whole is not.
   Eigen::MatrixXd dense(4, 4);

@@ -3,8 +3,11 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Eigenvalues>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -186,6 +189,20 @@ TEST_CASE("Condensation real operator is the documented arrangement of the compl
   CHECK(real(1 * n_c + 0, 0 * n_c + 4) == 0.0);
 }
 
+// Calls check(derivative, RealOperator() or its derivative) at two frequencies.
+template <typename Check>
+void AtTwoFrequencies(Condensation& condensation, Check check) {
+  for (const double omega : {0.7, 1.9}) {
+    condensation.Update(omega);
+    for (const bool derivative : {false, true}) {
+      CAPTURE(omega);
+      CAPTURE(derivative);
+      check(derivative,
+            derivative ? condensation.RealOperatorDerivative() : condensation.RealOperator());
+    }
+  }
+}
+
 // WriteRealOperator fills the layout's blocks only: a matrix of a sentinel shows both the
 // entries it writes (RealOperator's, bit for bit) and the ones it must leave (RealOperator's
 // zeros), in a whole matrix and in the corner of a larger one (a Jacobian's).
@@ -196,36 +213,73 @@ TEST_CASE("Condensation writes its real operator's blocks in place and nothing e
   const std::vector<ForcingTerm> forcing = {{.dof = 1, .harmonic = 2, .cos = 1.0, .sin = 2.0}};
   Condensation condensation(model, retained, set, forcing);
   constexpr double kSentinel = 12345.0;
-  for (const double omega : {0.7, 1.9}) {
-    condensation.Update(omega);
-    for (const bool derivative : {false, true}) {
-      CAPTURE(omega);
-      CAPTURE(derivative);
-      const Eigen::MatrixXd real =
-          derivative ? condensation.RealOperatorDerivative() : condensation.RealOperator();
-      const Eigen::Index n = real.rows();
-      Eigen::MatrixXd whole = Eigen::MatrixXd::Constant(n, n, kSentinel);
-      condensation.WriteRealOperator(derivative, whole);
-      Eigen::MatrixXd larger = Eigen::MatrixXd::Constant(n + 3, n + 2, kSentinel);
-      condensation.WriteRealOperator(derivative, larger.topLeftCorner(n, n));
-      int written = 0;
-      for (Eigen::Index j = 0; j < n; ++j) {
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const bool in_layout = whole(i, j) != kSentinel;
-          written += in_layout ? 1 : 0;
-          CHECK(whole(i, j) == (in_layout ? real(i, j) : kSentinel));
-          CHECK(larger(i, j) == whole(i, j));
-          if (!in_layout) CHECK(real(i, j) == 0.0);
-        }
+  AtTwoFrequencies(condensation, [&](bool derivative, const Eigen::MatrixXd& real) {
+    const Eigen::Index n = real.rows();
+    Eigen::MatrixXd whole = Eigen::MatrixXd::Constant(n, n, kSentinel);
+    condensation.WriteRealOperator(derivative, whole);
+    Eigen::MatrixXd larger = Eigen::MatrixXd::Constant(n + 3, n + 2, kSentinel);
+    condensation.WriteRealOperator(derivative, larger.topLeftCorner(n, n));
+    int written = 0;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const bool in_layout = whole(i, j) != kSentinel;
+        written += in_layout ? 1 : 0;
+        CHECK(whole(i, j) == (in_layout ? real(i, j) : kSentinel));
+        CHECK(larger(i, j) == whole(i, j));
+        if (!in_layout) CHECK(real(i, j) == 0.0);
       }
-      // A 2 × 2 block per harmonic and retained pair, one entry for the constant.
-      CHECK(written == 4 * (1 + 4 * (set.num_harmonics() - 1)));
-      CHECK((larger.bottomRows(3).array() == kSentinel).all());
-      CHECK((larger.rightCols(2).array() == kSentinel).all());
     }
-  }
+    // A 2 × 2 block per harmonic and retained pair, one entry for the constant.
+    CHECK(written == 4 * (1 + 4 * (set.num_harmonics() - 1)));
+    CHECK((larger.bottomRows(3).array() == kSentinel).all());
+    CHECK((larger.rightCols(2).array() == kSentinel).all());
+  });
   Eigen::MatrixXd wrong(3, 3);
   CHECK_THROWS_AS(condensation.WriteRealOperator(false, wrong), std::invalid_argument);
+}
+
+// ApplyRealOperator replaces the dense product with RealOperator() in the residuals of one
+// retained DOF: the traces stay the same only if it is that product bit for bit (sign bits
+// included), also above 128 columns, where Eigen's product sums in blocks of columns. Checked
+// on iterates with zeros, negative zeros and magnitudes far apart. With several retained DOFs
+// it is the same sum up to the association of its terms.
+TEST_CASE("Condensation applies its real operator as the dense product does") {
+  // Two associations of a sum of four terms differ by at most ~3 eps of the terms' magnitudes.
+  constexpr double kReassociation = 8 * std::numeric_limits<double>::epsilon();
+  const std::vector<ForcingTerm> forcing = {{.dof = 1, .harmonic = 2, .cos = 1.0, .sin = 2.0}};
+  struct Setup {
+    std::vector<int> retained;
+    int max_harmonic;
+  };
+  for (const Setup& setup : {Setup{{3}, 4}, Setup{{2}, 70}, Setup{{3, 0}, 4}, Setup{{1, 4}, 70}}) {
+    CAPTURE(setup.retained.size());
+    CAPTURE(setup.max_harmonic);
+    const HarmonicSet set(setup.max_harmonic, false);
+    Condensation condensation(RandomModel(6, false, 4), setup.retained, set, forcing);
+    std::srand(7);
+    AtTwoFrequencies(condensation, [&](bool derivative, const Eigen::MatrixXd& real) {
+      const Eigen::Index n = real.rows();
+      Eigen::VectorXd x = Eigen::VectorXd::Random(n);
+      for (Eigen::Index i = 0; i < n; i += 5) x(i) = 0.0;
+      for (Eigen::Index i = 2; i < n; i += 7) x(i) = -0.0;
+      for (Eigen::Index i = 1; i < n; i += 3) x(i) *= 1e9;
+      const Eigen::VectorXd dense = real * x;
+      const Eigen::VectorXd magnitudes = real.cwiseAbs() * x.cwiseAbs();
+      Eigen::VectorXd applied = Eigen::VectorXd::Constant(n, 12345.0);
+      condensation.ApplyRealOperator(derivative, x, applied);
+      int differing = 0, beyond_rounding = 0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (std::bit_cast<std::uint64_t>(applied(i)) != std::bit_cast<std::uint64_t>(dense(i))) {
+          ++differing;
+        }
+        if (std::abs(applied(i) - dense(i)) > kReassociation * magnitudes(i)) ++beyond_rounding;
+      }
+      if (setup.retained.size() == 1) CHECK(differing == 0);
+      CHECK(beyond_rounding == 0);
+    });
+    Eigen::VectorXd wrong(3), out(3);
+    CHECK_THROWS_AS(condensation.ApplyRealOperator(false, wrong, out), std::invalid_argument);
+  }
 }
 
 TEST_CASE("Condensation with every DOF retained is the plain dynamic stiffness") {
