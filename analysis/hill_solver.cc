@@ -182,7 +182,10 @@ bool HillLinearSolver::Eliminate(const Eigen::SparseMatrix<double>& matrix) {
   // Whether a block's position reaches an own row; cleared after each block.
   std::vector<char> reaches(static_cast<size_t>(kMaxBlock), 0);
   std::vector<int> own_rows;  // a block's, before it finds its group
-  int last_group = -1;        // the previous block's: friction's blocks all share one
+  // The previous block's group: friction's blocks all share one, and one equality test of
+  // their rows is cheaper than the map's two lexicographic comparisons (2–3 % of a Hill point
+  // at N_φ = 160, nfrc_bench 8).
+  int last_group = -1;
   for (size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const int nb = static_cast<int>(block.unknowns.size());

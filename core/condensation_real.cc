@@ -1,6 +1,6 @@
 // The real, DOF-major layout of Condensation's per-harmonic complex operator and forcing:
 // the form the harmonic-balance residual uses (coefficients a_k, b_k of each retained DOF).
-#include <algorithm>
+#include <cassert>
 #include <stdexcept>
 
 #include "core/condensation.h"
@@ -92,25 +92,21 @@ void Condensation::ApplyRealOperator(bool derivative, const Eigen::Ref<const Eig
     const Eigen::MatrixXcd& z_p = derivative ? dZ(p) : Z(p);
     const int ic = set_.CosIndex(p);
     const int is = set_.SinIndex(p);
+    assert(is == ic || is == ic + 1);
     const bool constant = set_.harmonics()[static_cast<size_t>(p)] == 0;
-    // The cosine's and sine's columns in ascending order (PutRows's entries, row by row).
-    const int first = std::min(ic, is), second = std::max(ic, is);
     for (int i = 0; i < num_retained(); ++i) {
       double cos_row = 0.0, sin_row = 0.0;
       for (int j = 0; j < num_retained(); ++j) {
+        // PutRows's entries: row cos (Re, Im) and row sin (−Im, Re) on columns (cos, sin),
+        // which are adjacent and in that order (is = ic + 1).
         const Complex z = z_p(i, j);
-        const double* xj = x.data() + static_cast<Eigen::Index>(j) * n_c;
-        if (constant) {
-          cos_row += z.real() * xj[ic];
-          continue;
-        }
-        // Row cos: (Re, Im) on (cos, sin); row sin: (−Im, Re).
-        const auto cos_entry = [&](int c) { return c == ic ? z.real() : z.imag(); };
-        const auto sin_entry = [&](int c) { return c == ic ? -z.imag() : z.real(); };
-        cos_row += cos_entry(first) * xj[first];
-        cos_row += cos_entry(second) * xj[second];
-        sin_row += sin_entry(first) * xj[first];
-        sin_row += sin_entry(second) * xj[second];
+        const double a = x(static_cast<Eigen::Index>(j) * n_c + ic);
+        cos_row += z.real() * a;
+        if (constant) continue;
+        const double b = x(static_cast<Eigen::Index>(j) * n_c + is);
+        cos_row += z.imag() * b;
+        sin_row += -z.imag() * a;
+        sin_row += z.real() * b;
       }
       out(static_cast<Eigen::Index>(i) * n_c + ic) = cos_row;
       if (!constant) out(static_cast<Eigen::Index>(i) * n_c + is) = sin_row;
