@@ -132,6 +132,16 @@ void HarmonicSystem::ApplyOperator(bool derivative, const Eigen::Ref<const Eigen
   }
 }
 
+bool HarmonicSystem::Prepare(double omega) {
+  try {
+    MoveTo(omega);
+    return true;
+  } catch (const std::runtime_error& error) {
+    last_error_ = error.what();  // as in Evaluate: a singular condensed operator
+    return false;
+  }
+}
+
 bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
                               Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) {
   try {

@@ -73,7 +73,11 @@ class HarmonicSystem : public ContinuationProblem {
   const std::vector<int>& retained() const { return retained_; }
   const std::vector<std::unique_ptr<Nonlinearity>>& laws() const { return laws_; }
   const NonlinearityContext& context(int law) const { return contexts_[law]; }
-  // Why the last Evaluate returned false.
+  // What Evaluate does before the laws: the linear part moved to ω and the laws bound, for
+  // callers that linearise the laws themselves (Hill's assembly). False, with last_error(),
+  // where the condensed operator cannot be formed at ω (a numerical failure, as there).
+  bool Prepare(double omega);
+  // Why the last Evaluate or Prepare returned false.
   const std::string& last_error() const { return last_error_; }
 
  private:

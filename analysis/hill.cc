@@ -406,10 +406,13 @@ HillAssembler::HillAssembler(HarmonicSystem& system)
 HillAssembler::~HillAssembler() = default;
 
 HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
-  Eigen::VectorXd residual;
-  if (!system_.Evaluate(y, omega, &residual, nullptr, nullptr)) {
-    throw std::runtime_error("Hill: the system cannot be evaluated at omega = " +
-                             std::to_string(omega) + ": " + system_.last_error());
+  // The linear part and the laws' binding only: each law evaluates itself as it linearises.
+  // The points analysed are solutions, whose residual and Jacobian the corrector found finite
+  // (the whole residual evaluated here as a check was 1.4–2.6 % of a worker's samples).
+  if (!y.allFinite() || !system_.Prepare(omega)) {
+    throw std::runtime_error(
+        "Hill: the system cannot be evaluated at omega = " + std::to_string(omega) + ": " +
+        (y.allFinite() ? system_.last_error() : "y is not finite"));
   }
   const Cache& cache = *cache_;
   const int size = cache.size;

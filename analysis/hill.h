@@ -81,9 +81,11 @@ class HillAssembler {
   HillAssembler(const HillAssembler&) = delete;
   HillAssembler& operator=(const HillAssembler&) = delete;
 
-  // The pencil of the solution y at ω (the system is evaluated there first). Δ0 is the
-  // Jacobian of the uncondensed harmonic equations; Δ1 = C⊗I + 2ωM⊗D plus the laws' velocity
-  // Jacobians; Δ2 = M⊗I (Nonlinearity::LinearizeForStability).
+  // The pencil of the solution y at ω (a solution: the laws are linearised, not checked
+  // against their residual). Δ0 is the Jacobian of the uncondensed harmonic equations;
+  // Δ1 = C⊗I + 2ωM⊗D plus the laws' velocity Jacobians; Δ2 = M⊗I
+  // (Nonlinearity::LinearizeForStability). Throws std::runtime_error where y is not finite or
+  // the linear part cannot be formed at ω.
   HillPencil Assemble(const Eigen::VectorXd& y, double omega);
 
  private:

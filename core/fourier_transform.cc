@@ -79,6 +79,17 @@ void CheckShape(const char* name, Eigen::Index rows, Eigen::Index cols, Eigen::I
   }
 }
 
+// A 2 × 2 block's rows are adjacent in each column: its sums, differences and products are
+// taken in pairs (two lanes, each entry's own operations: the bits of the entry-wise form).
+using Pair = Eigen::Map<Eigen::Vector2d>;
+using ConstPair = Eigen::Map<const Eigen::Vector2d>;
+
+// The block's sine column (b_S − a_S, a_C − b_C): a_C − b_C is −(b_C − a_C) exactly.
+Eigen::Vector2d SineColumn(const ConstPair& a, const ConstPair& b) {
+  const Eigen::Vector2d difference = b - a;
+  return {difference(1), -difference(0)};
+}
+
 }  // namespace
 
 FourierTransform::FourierTransform(const HarmonicSet& set)
@@ -270,8 +281,8 @@ void FourierTransform::TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& wei
   }
 }
 
-template <typename Put>
-void FourierTransform::ForEachProductEntry(int q, Put put) const {
+template <typename Put, typename PutBlock>
+void FourierTransform::ForEachProductBlock(int q, Put put, PutBlock put_block) const {
   const double* pair = fft_->sums.data() + 2 * 2 * set_.max_harmonic();  // (C_m, S_m) at 2m
   const int n_h = set_.num_harmonics();
   const std::vector<int>& harmonics = set_.harmonics();
@@ -293,17 +304,10 @@ void FourierTransform::ForEachProductEntry(int q, Put put) const {
     put(0, 0, pair[2 * k]);
     put(0, 1, pair[2 * k + 1]);
   }
-  // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise; with
-  // a = (C, S) at j − k and b at j + k, the block is [a_C + b_C, b_S − a_S; a_S + b_S, a_C − b_C].
+  // Product-to-sum: 2 cos jθ cos kθ = cos(j−k)θ + cos(j+k)θ, and likewise.
   for (int p = has_constant ? 1 : 0; p < n_h; ++p) {
     const int j = harmonics[static_cast<size_t>(p)];
-    const int rc = cos_index[static_cast<size_t>(p)];
-    const double* a = pair + 2 * (j - k);
-    const double* b = pair + 2 * (j + k);
-    put(rc, 0, a[0] + b[0]);
-    put(rc + 1, 0, a[1] + b[1]);
-    put(rc, 1, b[1] - a[1]);
-    put(rc + 1, 1, a[0] - b[0]);
+    put_block(cos_index[static_cast<size_t>(p)], pair + 2 * (j - k), pair + 2 * (j + k));
   }
 }
 
@@ -316,9 +320,16 @@ void FourierTransform::WeightedProduct(const Eigen::Ref<const Eigen::VectorXd>& 
   for (int q = 0; q < set_.num_harmonics(); ++q) {
     double* const cos_column = product->col(fft_->cos_index[static_cast<size_t>(q)]).data();
     double* const sin_column = cos_column + n_c;
-    ForEachProductEntry(q, [&](int row, int column, double value) {
-      (column == 0 ? cos_column : sin_column)[row] = value;
-    });
+    ForEachProductBlock(
+        q,
+        [&](int row, int column, double value) {
+          (column == 0 ? cos_column : sin_column)[row] = value;
+        },
+        [&](int rc, const double* a, const double* b) {
+          const ConstPair a_pair(a), b_pair(b);
+          Pair(cos_column + rc) = a_pair + b_pair;
+          Pair(sin_column + rc) = SineColumn(a_pair, b_pair);
+        });
   }
 }
 
@@ -328,25 +339,42 @@ void FourierTransform::AddWeightedProduct(const Eigen::Ref<const Eigen::VectorXd
   const int n_c = set_.NumCoefficients();
   CheckShape("target", target.rows(), target.cols(), n_c, n_c);
   TabulateSums(weights);
+  // By blocks in pairs (the entry-wise form was 10 % of the N_φ = 160 friction curve's trace).
   for (int q = 0; q < set_.num_harmonics(); ++q) {
     const int k = set_.harmonics()[static_cast<size_t>(q)];
     double* const cos_target = target.col(fft_->cos_index[static_cast<size_t>(q)]).data();
+    double* const sin_target = cos_target + target.outerStride();
     if (times_derivative) {
       if (k == 0) continue;  // m·D's column of the constant is zero
       // (m·D)(:, cos k) = −k·m(:, sin k) and (m·D)(:, sin k) = k·m(:, cos k): ±k·m first, as
       // AddTimesDerivative rounds it.
-      double* const sin_target = cos_target + target.outerStride();
-      ForEachProductEntry(q, [&](int row, int column, double value) {
-        if (column == 0) {
-          sin_target[row] += scale * (k * value);
-        } else {
-          cos_target[row] += scale * (-k * value);
-        }
-      });
+      const double plus_k = k;
+      const double minus_k = -k;
+      ForEachProductBlock(
+          q,
+          [&](int row, int column, double value) {
+            if (column == 0) {
+              sin_target[row] += scale * (k * value);
+            } else {
+              cos_target[row] += scale * (-k * value);
+            }
+          },
+          [&](int rc, const double* a, const double* b) {
+            const ConstPair a_pair(a), b_pair(b);
+            Pair(sin_target + rc) += scale * (plus_k * (a_pair + b_pair));
+            Pair(cos_target + rc) += scale * (minus_k * SineColumn(a_pair, b_pair));
+          });
     } else {
-      ForEachProductEntry(q, [&](int row, int column, double value) {
-        cos_target[row + column * target.outerStride()] += scale * value;
-      });
+      ForEachProductBlock(
+          q,
+          [&](int row, int column, double value) {
+            (column == 0 ? cos_target : sin_target)[row] += scale * value;
+          },
+          [&](int rc, const double* a, const double* b) {
+            const ConstPair a_pair(a), b_pair(b);
+            Pair(cos_target + rc) += scale * (a_pair + b_pair);
+            Pair(sin_target + rc) += scale * SineColumn(a_pair, b_pair);
+          });
     }
   }
 }

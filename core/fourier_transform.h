@@ -65,13 +65,15 @@ class FourierTransform {
                           bool times_derivative, Eigen::Ref<Eigen::MatrixXd> target) const;
 
  private:
-  // The table of (C_m, S_m) of the weights that ForEachProductEntry reads.
+  // The table of (C_m, S_m) of the weights that ForEachProductBlock reads.
   void TabulateSums(const Eigen::Ref<const Eigen::VectorXd>& weights) const;
-  // put(row, column, value) for each entry of the column pair cos k, sin k (harmonic
-  // position q; column 0 or 1) of P·diag(w)·E, from the table; the constant has no sine
-  // column. Each entry once: a caller writes or accumulates it where it belongs.
-  template <typename Put>
-  void ForEachProductEntry(int q, Put put) const;
+  // The column pair cos k, sin k (harmonic position q) of P·diag(w)·E, from the table, each
+  // entry once (a caller writes or accumulates it where it belongs): the constant's entries
+  // by put(row, column 0 or 1, value) (the constant has no sine column), and each 2 × 2
+  // block of rows cos j, sin j (j, k ≠ 0) by put_block(row of cos j, a, b), with a and b
+  // the table's pairs (C, S) at j − k and j + k: [a_C + b_C, b_S − a_S; a_S + b_S, a_C − b_C].
+  template <typename Put, typename PutBlock>
+  void ForEachProductBlock(int q, Put put, PutBlock put_block) const;
 
   struct FftState;
   HarmonicSet set_;

@@ -9,7 +9,10 @@
 #include <bit>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "analysis/case.h"
 #include "support/chain_case.h"
@@ -272,6 +275,41 @@ TEST_CASE("hill: delta0 condensed is DLFT's Jacobian against a rigid obstacle") 
       system->laws()[0]->LinearResidualPart(system->context(0), y, omega)->weights;
   CHECK(weights.norm() > 0.0);  // some samples in contact
   CHECK((schur - jacobian).norm() <= 1e-9 * jacobian.norm());
+}
+
+// Assemble moves the linear part to the point's ω itself (it no longer evaluates the
+// system first): DLFT, which predicts its force from the condensed operator, gives the same
+// pencil after an evaluation at another ω as after one at the point's, and a non-finite
+// point is refused.
+TEST_CASE("hill: the pencil is the point's whatever frequency the system was evaluated at") {
+  const Case c = testing::ChainAgainstRigidObstacle(HarmonicSet(4, false, 32));
+  const double omega = 0.9;
+  auto reference_system = BuildSystem(c);
+  Eigen::VectorXd y = reference_system->InitialGuess(omega);
+  std::srand(11);
+  y += 0.05 * Eigen::VectorXd::Random(y.size());
+  Eigen::VectorXd residual;
+  REQUIRE(reference_system->Evaluate(y, omega, &residual, nullptr, nullptr));
+  const HillPencil reference = AssembleHillPencil(*reference_system, y, omega);
+  for (const double elsewhere : {0.5, 1.7}) {
+    auto system = BuildSystem(c);
+    REQUIRE(system->Evaluate(y, elsewhere, &residual, nullptr, nullptr));
+    const HillPencil pencil = AssembleHillPencil(*system, y, omega);
+    CHECK(Eigen::MatrixXd(pencil.d0 - reference.d0).norm() == 0.0);
+    CHECK(Eigen::MatrixXd(pencil.d1 - reference.d1).norm() == 0.0);
+  }
+  // Never evaluated: the assembly binds the laws.
+  auto fresh = BuildSystem(c);
+  CHECK(Eigen::MatrixXd(AssembleHillPencil(*fresh, y, omega).d0 - reference.d0).norm() == 0.0);
+  Eigen::VectorXd broken = y;
+  broken(1) = std::numeric_limits<double>::quiet_NaN();
+  std::string message;
+  try {
+    AssembleHillPencil(*fresh, broken, omega);
+  } catch (const std::runtime_error& error) {
+    message = error.what();
+  }
+  CHECK(message.find("y is not finite") != std::string::npos);
 }
 
 // A trace reuses one HillAssembler (its Kronecker products and map are built once): after a
