@@ -144,8 +144,8 @@ bool HarmonicSystem::Prepare(double omega) {
 
 bool HarmonicSystem::Evaluate(const Eigen::VectorXd& y, double omega, Eigen::VectorXd* residual,
                               Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_omega) {
+  if (!Prepare(omega)) return false;
   try {
-    MoveTo(omega);
     const int nx = num_displacement_unknowns_;
     const auto x = y.head(nx);
     residual->setZero(num_unknowns_);

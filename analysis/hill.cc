@@ -12,6 +12,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "analysis/hill_memory.h"
 #include "analysis/hill_product.h"
@@ -409,11 +410,12 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // The linear part and the laws' binding only: each law evaluates itself as it linearises.
   // The points analysed are solutions, whose residual and Jacobian the corrector found finite
   // (the whole residual evaluated here as a check was 1.4–2.6 % of a worker's samples).
-  if (!y.allFinite() || !system_.Prepare(omega)) {
-    throw std::runtime_error(
-        "Hill: the system cannot be evaluated at omega = " + std::to_string(omega) + ": " +
-        (y.allFinite() ? system_.last_error() : "y is not finite"));
-  }
+  const auto refuse = [omega](const std::string& why) {
+    return std::runtime_error(
+        "Hill: the system cannot be evaluated at omega = " + std::to_string(omega) + ": " + why);
+  };
+  if (!y.allFinite()) throw refuse("y is not finite");
+  if (!system_.Prepare(omega)) throw refuse(system_.last_error());
   const Cache& cache = *cache_;
   const int size = cache.size;
   const int nc = system_.harmonic_set().NumCoefficients();
