@@ -239,10 +239,7 @@ bool BranchWriter::OnPoint(const TracePoint& record) {
   WriteStabilityColumns(csv_, record.floquet);
   csv_ << '\n';
   csv_.Flush();
-  // Large documents are rewritten less often, so that writing stays a small share of the run.
-  const auto interval =
-      std::max<std::chrono::steady_clock::duration>(kJsonInterval, 10 * last_json_duration_);
-  if (std::chrono::steady_clock::now() - last_json_write_ > interval) WriteJson();
+  WriteJsonIfDue();
   return true;
 }
 
@@ -294,12 +291,14 @@ void BranchWriter::OnFold(const TraceFold& record) {
                                 {"iterations", fold.iterations},
                                 {"converged", fold.converged},
                                 {"corner", fold.corner}});
-  WriteJson();
+  unwritten_event_ = true;
+  WriteJsonIfDue();
 }
 
 void BranchWriter::OnBifurcation(const Bifurcation& bifurcation) {
   document_["bifurcations"].push_back(BifurcationToJson(bifurcation, omega_factor_));
-  WriteJson();
+  unwritten_event_ = true;
+  WriteJsonIfDue();
 }
 
 void BranchWriter::Finish(const ContinuationSummary& summary) {
@@ -308,11 +307,23 @@ void BranchWriter::Finish(const ContinuationSummary& summary) {
   csv_.Close();
 }
 
+void BranchWriter::WriteJsonIfDue() {
+  // Large documents are rewritten less often, so that writing stays a small share of the run.
+  const auto spacing = 10 * last_json_duration_;
+  const auto since = std::chrono::steady_clock::now() - last_json_write_;
+  if (since > std::max<std::chrono::steady_clock::duration>(kJsonInterval, spacing) ||
+      (unwritten_event_ && since > spacing)) {
+    WriteJson();
+  }
+}
+
 void BranchWriter::WriteJson() {
   const auto start = std::chrono::steady_clock::now();
   WriteJsonAtomically(dir_ + "/branch.json", document_);
   last_json_write_ = std::chrono::steady_clock::now();
   last_json_duration_ = last_json_write_ - start;
+  unwritten_event_ = false;
+  ++json_writes_;
 }
 
 }  // namespace nfrc

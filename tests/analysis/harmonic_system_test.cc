@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "analysis/case.h"
+#include "analysis/hill.h"
 #include "continuation/evaluator.h"
 #include "nonlinearities/jacobian_check.h"
 #include "support/chain_case.h"
@@ -120,6 +121,52 @@ TEST_CASE("harmonic system: recovering DOFs at another frequency leaves no stale
   CHECK(noise == fresh->ResidualNoise(y, kCached));
   REQUIRE(system->Evaluate(y, kCached, &residual, &jacobian, &d_omega));
   REQUIRE(fresh->Evaluate(y, kCached, &fresh_residual, &fresh_jacobian, &fresh_d_omega));
+  CHECK(residual == fresh_residual);
+  CHECK(jacobian == fresh_jacobian);
+  CHECK(d_omega == fresh_d_omega);
+}
+
+// Two unit masses, undamped, friction on DOF 0 and DOF 1 condensed out with k_11 = 4 N/m: at
+// ω = 2 rad/s the first harmonic's Z_ll = k_11 − ω²m_11 is exactly zero.
+TEST_CASE("harmonic system: a singular condensed operator is a numerical failure, then cleared") {
+  Case c = testing::ChainCase(2);
+  Eigen::MatrixXd k(2, 2);
+  k << 2.0, -1.0, -1.0, 4.0;
+  c.model.model.stiffness = k.sparseView();
+  c.model.model.damping = Eigen::SparseMatrix<double>(2, 2);
+  c.model.forcing = {ForcingTerm{0, 1, 0.3, 0.0}};
+  c.harmonics = HarmonicSet(3, false, 32);
+  c.laws.push_back(testing::Friction(0, 0.3, 0.5));
+  c.continuation.lambda_start = 1.5;
+  c.continuation.lambda_end = 2.5;
+  c.output_dofs = {0};
+  c.output_names = {"0"};
+  c.Validate();
+  std::unique_ptr<HarmonicSystem> system = BuildSystem(c);
+  constexpr double kRegular = 1.9, kInteriorResonance = 2.0;
+  const Eigen::VectorXd y = system->InitialGuess(kRegular);
+  Eigen::VectorXd residual, d_omega;
+  Eigen::MatrixXd jacobian;
+  REQUIRE(system->Evaluate(y, kRegular, &residual, &jacobian, &d_omega));
+  // Every way in returns false with the cause; none throws.
+  CHECK_FALSE(system->Prepare(kInteriorResonance));
+  CHECK(system->last_error().find("singular") != std::string::npos);
+  CHECK_FALSE(system->Evaluate(y, kInteriorResonance, &residual, &jacobian, &d_omega));
+  CHECK(system->last_error().find("singular") != std::string::npos);
+  Evaluator evaluator(*system);
+  Eigen::VectorXd u(y.size() + 1);
+  u << y, kInteriorResonance;
+  Linearization linearization;
+  CHECK_FALSE(evaluator.Linearize(u, &linearization));
+  // Hill's assembly refuses the point by name (its callers report the analysis as failed).
+  CHECK_THROWS_WITH_AS(AssembleHillPencil(*system, y, kInteriorResonance),
+                       doctest::Contains("singular"), std::runtime_error);
+  // Nothing of the failed move stays: back at a regular ω the system evaluates as a fresh one.
+  std::unique_ptr<HarmonicSystem> fresh = BuildSystem(c);
+  Eigen::VectorXd fresh_residual, fresh_d_omega;
+  Eigen::MatrixXd fresh_jacobian;
+  REQUIRE(system->Evaluate(y, kRegular, &residual, &jacobian, &d_omega));
+  REQUIRE(fresh->Evaluate(y, kRegular, &fresh_residual, &fresh_jacobian, &fresh_d_omega));
   CHECK(residual == fresh_residual);
   CHECK(jacobian == fresh_jacobian);
   CHECK(d_omega == fresh_d_omega);

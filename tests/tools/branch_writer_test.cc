@@ -3,9 +3,11 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "tools/case_file.h"
 
@@ -85,7 +87,9 @@ TEST_CASE("branch.json and branch.csv record stability, null when not computed")
   const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
   const std::string dir = OutDir("stability");
   BranchWriter writer(dir, the_case, nullptr);
+  const auto start = std::chrono::steady_clock::now();
   writer.OnStart(2);
+  const auto start_write = std::chrono::steady_clock::now() - start;
   TracePoint unknown = Point(0, 1.0);  // stability off: floquet.computed is false
   TracePoint stable = Point(1, 1.2);
   stable.floquet = Floquet({{0.5, 0.0}, {0.25, 0.0}}, 0);
@@ -93,8 +97,10 @@ TEST_CASE("branch.json and branch.csv record stability, null when not computed")
   unstable.floquet = Floquet({{1.5, 0.1}, {1.5, -0.1}}, 2);
   writer.OnPoint(unknown);
   writer.OnPoint(stable);
+  // A bifurcation ten write durations after the last write is on disk at once, before the
+  // next point or the end of the run (OnStart's duration bounds its write's).
+  std::this_thread::sleep_for(11 * start_write + std::chrono::milliseconds(1));
   writer.OnBifurcation(Crossing());
-  // The bifurcation is on disk at once, before the next point or the end of the run.
   const nlohmann::json streamed = ReadJson(dir + "/branch.json");
   REQUIRE(streamed["bifurcations"].size() == 1);
   writer.OnPoint(unstable);
@@ -146,6 +152,40 @@ TEST_CASE("branch.json and branch.csv record stability, null when not computed")
   CHECK(Split(lines[3])[9] == "0");
   CHECK(std::stod(Split(lines[3])[10]) == doctest::Approx(std::abs(std::complex(1.5, 0.1))));
   CHECK(Split(lines[3])[11] == "2");
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a burst of folds and bifurcations is written together, then by the next point") {
+  const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
+  const std::string dir = OutDir("burst");
+  BranchWriter writer(dir, the_case, nullptr);
+  const auto start_time = std::chrono::steady_clock::now();
+  writer.OnStart(2);
+  const auto start_write = std::chrono::steady_clock::now() - start_time;
+  writer.OnPoint(Point(0, 1.0));
+  const int before = writer.json_writes();
+  // Each write takes at least the time of the events between two writes, so ten write
+  // durations of spacing leave at most a few of the 200 writes that writing each would take.
+  constexpr int kEvents = 200;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < kEvents / 2; ++i) {
+    writer.OnBifurcation(Crossing());
+    TraceFold fold;
+    fold.fold.lambda = 1.1;
+    writer.OnFold(fold);
+  }
+  const auto burst = std::chrono::steady_clock::now() - start;
+  CHECK(writer.json_writes() - before < kEvents / 4);
+  // The last write was OnStart's or one in the burst, so it took less than their sum: eleven
+  // times that later, the next point writes what is left, before kJsonInterval is due.
+  const auto wait = 11 * (start_write + burst);
+  REQUIRE(wait < BranchWriter::kJsonInterval);
+  std::this_thread::sleep_for(wait);
+  writer.OnPoint(Point(1, 1.2));
+  const nlohmann::json streamed = ReadJson(dir + "/branch.json");
+  CHECK(streamed["bifurcations"].size() == kEvents / 2);
+  CHECK(streamed["folds"].size() == kEvents / 2);
+  CHECK(streamed["points"].size() == 2);
   std::filesystem::remove_all(dir);
 }
 
