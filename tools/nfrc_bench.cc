@@ -46,7 +46,11 @@
 //      and a 32-branch sweep of the Fig. 7 oscillator in the normal load with one
 //      and two threads (time per branch, speed-up, efficiency, equal results);
 //  13. the dense LU kernels (tools/bench_kernels.h): Eigen's and LAPACK's (OpenBLAS) from 40
-//      to 2 560 unknowns, and which one DenseLu takes at each size.
+//      to 2 560 unknowns, and which one DenseLu takes at each size;
+//  14. what `nfrc run` adds to the trace (tools/bench_outputs.h): NLvib's two curves, the rod,
+//      Fig. 7 (N = 10) and point E traced alone and with their files written, alternating
+//      (`runs=N` times each, at least 3; Hill beside as threads=N says), and how many times
+//      branch.json was written.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -73,6 +77,7 @@
 #include "tools/bench_blade.h"
 #include "tools/bench_common.h"
 #include "tools/bench_kernels.h"
+#include "tools/bench_outputs.h"
 #include "tools/bench_studies.h"
 #include "tools/case_file.h"
 #include "tools/lu_calibration.h"
@@ -590,5 +595,6 @@ int main(int argc, char** argv) {
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);
   if (run(13)) nfrc::bench::BenchDenseLu(g_lu_unit);
+  if (run(14)) nfrc::bench::BenchOutputs(std::max(runs, 3), threads, g_lu_unit);
   return 0;
 }
