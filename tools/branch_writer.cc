@@ -308,13 +308,13 @@ void BranchWriter::Finish(const ContinuationSummary& summary) {
 }
 
 void BranchWriter::WriteJsonIfDue() {
-  // Large documents are rewritten less often, so that writing stays a small share of the run.
-  const auto spacing = 10 * last_json_duration_;
-  const auto since = std::chrono::steady_clock::now() - last_json_write_;
-  if (since > std::max<std::chrono::steady_clock::duration>(kJsonInterval, spacing) ||
-      (unwritten_event_ && since > spacing)) {
-    WriteJson();
-  }
+  // Large documents are rewritten less often, so that writing stays a small share of the run;
+  // a fold or bifurcation waits for that spacing only, not for kJsonInterval.
+  const std::chrono::steady_clock::duration spacing = 10 * last_json_duration_;
+  const auto due = unwritten_event_
+                       ? spacing
+                       : std::max<std::chrono::steady_clock::duration>(spacing, kJsonInterval);
+  if (std::chrono::steady_clock::now() - last_json_write_ > due) WriteJson();
 }
 
 void BranchWriter::WriteJson() {

@@ -16,7 +16,7 @@ namespace nfrc {
 // Streams a traced branch to DIR/branch.csv (a line per point, flushed) and DIR/branch.json
 // (rewritten atomically at most every kJsonInterval, or ten times the last write's duration
 // if longer; at a fold or bifurcation once ten durations have passed, so that a run with many,
-// such as NLvib's 90 over 900 kB, spends a tenth at most on them instead of a quarter; and at
+// such as NLvib's 96 over 900 kB, spends about a tenth on them instead of a quarter; and at
 // the end), and each solution's time signals to
 // DIR/signals_<n>.csv (and samples_<n>.csv), so a run that stops part-way leaves every point
 // computed so far on disk. It only writes what the trace computed: it never solves.

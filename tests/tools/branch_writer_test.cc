@@ -44,6 +44,14 @@ std::vector<std::string> Split(const std::string& line) {
   return cells;
 }
 
+// Calls writer.OnStart and returns how long it took: an upper bound of its write's duration,
+// which sets when the writer's next event is due.
+std::chrono::steady_clock::duration TimedStart(BranchWriter& writer) {
+  const auto start = std::chrono::steady_clock::now();
+  writer.OnStart(2);
+  return std::chrono::steady_clock::now() - start;
+}
+
 TracePoint Point(int index, double omega) {
   TracePoint point;
   point.index = index;
@@ -87,9 +95,7 @@ TEST_CASE("branch.json and branch.csv record stability, null when not computed")
   const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
   const std::string dir = OutDir("stability");
   BranchWriter writer(dir, the_case, nullptr);
-  const auto start = std::chrono::steady_clock::now();
-  writer.OnStart(2);
-  const auto start_write = std::chrono::steady_clock::now() - start;
+  const auto start_write = TimedStart(writer);
   TracePoint unknown = Point(0, 1.0);  // stability off: floquet.computed is false
   TracePoint stable = Point(1, 1.2);
   stable.floquet = Floquet({{0.5, 0.0}, {0.25, 0.0}}, 0);
@@ -159,9 +165,7 @@ TEST_CASE("a burst of folds and bifurcations is written together, then by the ne
   const Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing_h1.json");
   const std::string dir = OutDir("burst");
   BranchWriter writer(dir, the_case, nullptr);
-  const auto start_time = std::chrono::steady_clock::now();
-  writer.OnStart(2);
-  const auto start_write = std::chrono::steady_clock::now() - start_time;
+  const auto start_write = TimedStart(writer);
   writer.OnPoint(Point(0, 1.0));
   const int before = writer.json_writes();
   // Each write takes at least the time of the events between two writes, so ten write
