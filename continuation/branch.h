@@ -51,6 +51,8 @@ struct StepRecord {
   double step = 0.0;
   int newton_iterations = 0;
   bool accepted = false;
+  // A step at fixed λ after a failed arclength corrector (newton_iterations counts both).
+  bool fixed_lambda = false;
   std::string note;  // why it was rejected, empty if accepted
 };
 

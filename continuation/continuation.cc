@@ -418,6 +418,7 @@ class Continuer {
     point.newton_iterations = solved.iterations;
     point.residual_norm = solved.residual_norm;
     record.note = "natural-parameter step after a failed arclength corrector";
+    record.fixed_lambda = true;
     angle_rejection_.reset();
     const std::optional<double> chord_error = plotted.chord_error;
     Accept(std::move(record), point, solved.u, new_tangent, orientation, std::move(plotted.sample));

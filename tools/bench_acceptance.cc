@@ -111,6 +111,24 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
   }
   std::printf("  folds %zu (%d corners) in %d iterations; other crossings %d (%d jumps) in %d\n",
               trace.folds.size(), corners, fold_iterations, crossings, jumps, crossing_iterations);
+  // The corrector's detours: steps at fixed ω after a failed arclength corrector (their
+  // iterations include the failed one's) and rejected steps, against all of the trace's.
+  int fixed = 0, fixed_iterations = 0, rejected = 0, rejected_iterations = 0;
+  for (const StepRecord& r : s.history) {
+    if (r.fixed_lambda) {
+      ++fixed;
+      fixed_iterations += r.newton_iterations;
+    } else if (!r.accepted) {
+      ++rejected;
+      rejected_iterations += r.newton_iterations;
+    }
+  }
+  const double total = std::max(s.total_newton_iterations, 1);
+  std::printf(
+      "  corrector: %d evaluations; %d steps at fixed omega after a failed arclength corrector "
+      "in %d iterations (%.1f %%), %d rejected steps in %d (%.1f %%)\n",
+      s.num_evaluations, fixed, fixed_iterations, 100.0 * fixed_iterations / total, rejected,
+      rejected_iterations, 100.0 * rejected_iterations / total);
   Timing timing{seconds, lu_unit, static_cast<int>(trace.points.size())};
   if (accuracy) {
     timing.accuracy = Accuracy(the_case, trace, c.plotted);

@@ -149,6 +149,7 @@ nlohmann::json SummaryToJson(const ContinuationSummary& summary) {
     history.push_back({{"step", step.step},
                        {"newton_iterations", step.newton_iterations},
                        {"accepted", step.accepted},
+                       {"fixed_lambda", step.fixed_lambda},
                        {"note", step.note}});
   }
   return {{"termination", ToString(summary.reason)},

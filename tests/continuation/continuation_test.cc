@@ -408,6 +408,7 @@ TEST_CASE("kink over 90 degrees: passed by a natural-parameter step, orientation
   int natural = 0;
   for (const StepRecord& record : branch.summary.history) {
     if (record.accepted && record.note.rfind("natural", 0) == 0) ++natural;
+    CHECK(record.fixed_lambda == (record.accepted && record.note.rfind("natural", 0) == 0));
   }
   CHECK(natural >= 1);
   for (size_t i = 1; i < branch.points.size(); ++i) {

@@ -33,6 +33,15 @@ TEST_CASE("nfrc run writes branch.json with points, folds and summary, and measu
   CHECK(doc["points"].size() == branch.points.size());
   CHECK(doc["folds"].size() == 2);
   CHECK(doc["summary"]["termination"] == ToString(TerminationReason::kReachedLambdaBound));
+  // The step history as the summary holds it, entry by entry.
+  const auto& history = doc["summary"]["history"];
+  REQUIRE(history.size() == branch.summary.history.size());
+  for (size_t i = 0; i < history.size(); ++i) {
+    const StepRecord& record = branch.summary.history[i];
+    CHECK(history[i]["accepted"] == record.accepted);
+    CHECK(history[i]["fixed_lambda"] == record.fixed_lambda);
+    CHECK(history[i]["newton_iterations"] == record.newton_iterations);
+  }
   // With one harmonic, max |x(t)| equals the first-harmonic amplitude √(a² + b²); the fine
   // resampling (≥ 512 samples) finds the peak to 1 − cos(π/512) ≈ 2e-5 relative.
   for (const auto& point : doc["points"]) {
