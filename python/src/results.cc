@@ -84,6 +84,18 @@ double MeasureOf(const SolutionMeasures& m, const std::string& name, int output)
 }
 
 void BindResults(py::module_& m) {
+  py::class_<StepRecord>(m, "Step", "One continuation step, accepted or rejected.")
+      .def_readonly("step", &StepRecord::step)
+      .def_readonly("newton_iterations", &StepRecord::newton_iterations)
+      .def_readonly("accepted", &StepRecord::accepted)
+      .def_readonly("fixed_lambda", &StepRecord::fixed_lambda)
+      .def_readonly("note", &StepRecord::note)
+      .def("__repr__", [](const StepRecord& s) {
+        return std::string("<nfrc.Step ") + (s.accepted ? "accepted" : "rejected") +
+               " step=" + py::repr(py::float_(s.step)).cast<std::string>() + ", " +
+               std::to_string(s.newton_iterations) + " iterations>";
+      });
+
   py::class_<ContinuationSummary>(m, "Summary", "How a trace ended, with its counts.")
       .def_property_readonly("termination",
                              [](const ContinuationSummary& s) { return ToString(s.reason); })
@@ -97,6 +109,7 @@ void BindResults(py::module_& m) {
       .def_readonly("evaluations", &ContinuationSummary::num_evaluations)
       .def_readonly("wall_time", &ContinuationSummary::wall_time_seconds)
       .def_readonly("notes", &ContinuationSummary::notes)
+      .def_readonly("history", &ContinuationSummary::history)
       .def("__repr__", [](const ContinuationSummary& s) {
         return "<nfrc.Summary " + std::string(ToString(s.reason)) + ": " +
                std::to_string(s.num_points) + " points, " + std::to_string(s.num_folds) + " folds>";

@@ -45,6 +45,14 @@ def test_numpy_case_traces_like_nfrc_run(name, source_dir, build_dir, tmp_path):
     assert branch.num_unknowns == written["unknowns"]
     assert branch.summary.folds == len(written["folds"]) == len(branch.folds)
     assert len(branch.solutions) == len(written.get("signals", []))
+    # The step history, entry by entry as nfrc run writes it; its counts add up to the totals.
+    history = branch.summary.history
+    assert [(s.step, s.newton_iterations, s.accepted, s.fixed_lambda, s.note) for s in history] \
+        == [(h["step"], h["newton_iterations"], h["accepted"], h["fixed_lambda"], h["note"])
+            for h in written["summary"]["history"]]
+    assert sum(s.accepted for s in history) == branch.summary.accepted_steps
+    assert sum(not s.accepted for s in history) == branch.summary.rejected_steps
+    assert all(s.note for s in history if not s.accepted)
 
 
 def test_measures_by_name_and_dof(friction_case):
