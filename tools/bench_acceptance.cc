@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -287,9 +288,11 @@ void BenchStepWeights(double lu_unit) {
   }
 }
 
-void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int runs, bool perturb,
-                     int threads, int newton_target) {
-  const std::vector<AcceptanceCase> cases = {
+namespace {
+
+// The cases with their budgets; the N_φ = 640 point (kFinePoint) runs after them.
+const std::vector<AcceptanceCase>& AcceptanceCases() {
+  static const std::vector<AcceptanceCase> cases = {
       {"duffing.json", Plotted::kMaxAbs, 0.0},
       {"friction/one_dof_coulomb.json", Plotted::kMaxAbs, 4.0},
       {"contact/nlvib.json#penalty", Plotted::kMaxAbs, 30.0},
@@ -300,6 +303,42 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
       {"rod/rigid_nh20.json", Plotted::kMaxAbs, 60.0},
       {"friction/point_e.json", Plotted::kLogEnergy, 700.0},
   };
+  return cases;
+}
+constexpr const char* kFinePoint = "friction point at N_phi = 640";
+
+}  // namespace
+
+std::vector<std::string> AcceptanceCaseNames() {
+  std::vector<std::string> names;
+  for (const AcceptanceCase& c : AcceptanceCases()) names.emplace_back(c.file);
+  names.emplace_back(kFinePoint);
+  return names;
+}
+
+void CheckAcceptanceSelection(const std::vector<std::string>& only) {
+  const std::vector<std::string> names = AcceptanceCaseNames();
+  for (const std::string& word : only) {
+    if (std::none_of(names.begin(), names.end(),
+                     [&](const std::string& name) { return name.find(word) != name.npos; })) {
+      throw std::invalid_argument("case=" + word + " names no case of section 9");
+    }
+  }
+}
+
+void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOptions& options) {
+  const std::vector<std::string> names = AcceptanceCaseNames();
+  const auto selected = [&](const std::string& name) {
+    return options.only.empty() ||
+           std::any_of(options.only.begin(), options.only.end(),
+                       [&](const std::string& word) { return name.find(word) != name.npos; });
+  };
+  CheckAcceptanceSelection(options.only);
+  const std::vector<AcceptanceCase>& cases = AcceptanceCases();
+  const int runs = options.runs;
+  const bool perturb = options.perturb;
+  const int threads = options.threads;
+  const int newton_target = options.newton_target;
   // Rounds of every case in turn, so that a slow phase of the machine spreads over the cases.
   std::vector<std::vector<Timing>> timings(cases.size() + 1);
   const auto keep = [](std::optional<Timing> timing, std::vector<Timing>* into) {
@@ -312,8 +351,9 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
   for (int round = 0; round < runs; ++round) {
     if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
     // The reference traces cost more: once, or on every perturbed copy (the spread).
-    const bool with_accuracy = accuracy && (round == 0 || perturb);
+    const bool with_accuracy = options.accuracy && (round == 0 || perturb);
     for (size_t i = 0; i < cases.size(); ++i) {
+      if (!selected(cases[i].file)) continue;
       const int perturbation = perturb ? round : 0;
       keep(InChild([&] {
              return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, threads,
@@ -321,8 +361,10 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
            }),
            &timings[i]);
     }
-    keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), threads); }),
-         &timings[cases.size()]);
+    if (selected(kFinePoint)) {
+      keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), threads); }),
+           &timings[cases.size()]);
+    }
   }
   if (runs <= 1) return;
   std::printf(
@@ -330,9 +372,9 @@ void BenchAcceptance(const std::function<double()>& lu_unit, bool accuracy, int 
       "calibration, fastest / median\n",
       runs);
   for (size_t i = 0; i < cases.size(); ++i) {
-    PrintRuns(cases[i].file, timings[i], cases[i].budget_lu);
+    if (selected(cases[i].file)) PrintRuns(cases[i].file, timings[i], cases[i].budget_lu);
   }
-  PrintRuns("friction point at N_phi = 640", timings[cases.size()], 200.0);
+  if (selected(kFinePoint)) PrintRuns(kFinePoint, timings[cases.size()], 200.0);
 }
 
 }  // namespace nfrc::bench
