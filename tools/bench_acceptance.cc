@@ -327,7 +327,6 @@ void CheckAcceptanceSelection(const std::vector<std::string>& only) {
 }
 
 void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOptions& options) {
-  const std::vector<std::string> names = AcceptanceCaseNames();
   const auto selected = [&](const std::string& name) {
     return options.only.empty() ||
            std::any_of(options.only.begin(), options.only.end(),
