@@ -307,6 +307,11 @@ const std::vector<AcceptanceCase>& AcceptanceCases() {
 }
 constexpr const char* kFinePoint = "friction point at N_phi = 640";
 
+// Whether `word` of AcceptanceOptions::only selects the case `name`.
+bool Selects(const std::string& word, const std::string& name) {
+  return name.find(word) != std::string::npos;
+}
+
 }  // namespace
 
 std::vector<std::string> AcceptanceCaseNames() {
@@ -320,7 +325,7 @@ void CheckAcceptanceSelection(const std::vector<std::string>& only) {
   const std::vector<std::string> names = AcceptanceCaseNames();
   for (const std::string& word : only) {
     if (std::none_of(names.begin(), names.end(),
-                     [&](const std::string& name) { return name.find(word) != name.npos; })) {
+                     [&](const std::string& name) { return Selects(word, name); })) {
       throw std::invalid_argument("case=" + word + " names no case of section 9");
     }
   }
@@ -330,46 +335,42 @@ void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOpt
   const auto selected = [&](const std::string& name) {
     return options.only.empty() ||
            std::any_of(options.only.begin(), options.only.end(),
-                       [&](const std::string& word) { return name.find(word) != name.npos; });
+                       [&](const std::string& word) { return Selects(word, name); });
   };
   CheckAcceptanceSelection(options.only);
   const std::vector<AcceptanceCase>& cases = AcceptanceCases();
-  const int runs = options.runs;
-  const bool perturb = options.perturb;
-  const int threads = options.threads;
-  const int newton_target = options.newton_target;
   // Rounds of every case in turn, so that a slow phase of the machine spreads over the cases.
   std::vector<std::vector<Timing>> timings(cases.size() + 1);
   const auto keep = [](std::optional<Timing> timing, std::vector<Timing>* into) {
     if (timing) into->push_back(*timing);
   };
-  std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n", HillThreads(threads),
-              threads);
-  if (newton_target > 0)
-    std::printf("every case with target_newton_iterations %d\n", newton_target);
-  for (int round = 0; round < runs; ++round) {
-    if (runs > 1) std::printf("round %d of %d\n", round + 1, runs);
+  std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n",
+              HillThreads(options.threads), options.threads);
+  if (options.newton_target > 0)
+    std::printf("every case with target_newton_iterations %d\n", options.newton_target);
+  for (int round = 0; round < options.runs; ++round) {
+    if (options.runs > 1) std::printf("round %d of %d\n", round + 1, options.runs);
     // The reference traces cost more: once, or on every perturbed copy (the spread).
-    const bool with_accuracy = options.accuracy && (round == 0 || perturb);
+    const bool with_accuracy = options.accuracy && (round == 0 || options.perturb);
     for (size_t i = 0; i < cases.size(); ++i) {
       if (!selected(cases[i].file)) continue;
-      const int perturbation = perturb ? round : 0;
+      const int perturbation = options.perturb ? round : 0;
       keep(InChild([&] {
-             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, threads,
-                            newton_target);
+             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation,
+                            options.threads, options.newton_target);
            }),
            &timings[i]);
     }
     if (selected(kFinePoint)) {
-      keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), threads); }),
+      keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), options.threads); }),
            &timings[cases.size()]);
     }
   }
-  if (runs <= 1) return;
+  if (options.runs <= 1) return;
   std::printf(
       "over %d rounds: fastest / median wall time, and each run's time over its own "
       "calibration, fastest / median\n",
-      runs);
+      options.runs);
   for (size_t i = 0; i < cases.size(); ++i) {
     if (selected(cases[i].file)) PrintRuns(cases[i].file, timings[i], cases[i].budget_lu);
   }

@@ -61,6 +61,7 @@
 #include <cstdlib>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -515,17 +516,23 @@ void BenchStability(const std::string& name, int max_harmonic, int max_points, i
       parallel.bifurcations.size());
 }
 
+// `text` as a whole number in [low, high]; nothing if it is not one.
+std::optional<int> WholeNumber(const char* text, long low, long high) {
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || value < low || value > high) return std::nullopt;
+  return static_cast<int>(value);
+}
+
 // A whole-number argument key=N in [low, high]; exits with a message otherwise.
 int IntArgument(const std::string& arg, size_t key_length, long low, long high) {
-  char* end = nullptr;
-  const char* digits = arg.c_str() + key_length;
-  const long value = std::strtol(digits, &end, 10);
-  if (end == digits || *end != '\0' || value < low || value > high) {
+  const std::optional<int> value = WholeNumber(arg.c_str() + key_length, low, high);
+  if (!value) {
     std::fprintf(stderr, "nfrc_bench: %s needs a whole number from %ld to %ld\n", arg.c_str(), low,
                  high);
     std::exit(2);
   }
-  return static_cast<int>(value);
+  return *value;
 }
 
 constexpr int kSections = 14;
@@ -541,9 +548,8 @@ constexpr int kSections = 14;
 int main(int argc, char** argv) {
   nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
-  nfrc::bench::AcceptanceOptions acceptance;  // section 9
-  int& threads = acceptance.threads;          // also section 8's
-  int runs = 1;                               // also section 14's rounds (at least 3)
+  // Section 9's settings; its threads serve section 8 too, its runs section 14 (at least 3).
+  nfrc::bench::AcceptanceOptions acceptance;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "accuracy") {
@@ -551,27 +557,25 @@ int main(int argc, char** argv) {
     } else if (arg == "perturb") {
       acceptance.perturb = true;
     } else if (arg.rfind("runs=", 0) == 0) {
-      runs = IntArgument(arg, 5, 1, 1000);
+      acceptance.runs = IntArgument(arg, 5, 1, 1000);
     } else if (arg.rfind("threads=", 0) == 0) {
-      threads = IntArgument(arg, 8, -1, nfrc::kMaxThreads);
+      acceptance.threads = IntArgument(arg, 8, -1, nfrc::kMaxThreads);
     } else if (arg.rfind("target=", 0) == 0) {
       acceptance.newton_target = IntArgument(arg, 7, 1, 100);
     } else if (arg.rfind("case=", 0) == 0 && arg.size() > 5) {
       acceptance.only.push_back(arg.substr(5));
     } else {
-      char* end = nullptr;
-      const long section = std::strtol(arg.c_str(), &end, 10);
-      if (end == arg.c_str() || *end != '\0' || section < 1 || section > kSections) {
+      const std::optional<int> section = WholeNumber(arg.c_str(), 1, kSections);
+      if (!section) {
         std::fprintf(stderr,
                      "nfrc_bench: unknown argument \"%s\" (a section 1 to %d, accuracy, perturb, "
                      "runs=N, threads=N, target=N or case=TEXT)\n",
                      arg.c_str(), kSections);
         return 2;
       }
-      sections.push_back(static_cast<int>(section));
+      sections.push_back(*section);
     }
   }
-  acceptance.runs = runs;
   auto run = [&](int section) {
     return sections.empty() ||
            std::find(sections.begin(), sections.end(), section) != sections.end();
@@ -611,11 +615,11 @@ int main(int argc, char** argv) {
     BenchTransient("validation/rod_rigid.json", 63954.0, 3);
   }
   if (run(8)) {
-    BenchStability("duffing.json", 0, 0, threads);
-    BenchStability("friction/frc_n10.json", 0, 0, threads);
-    BenchStability("friction/frc_n10.json", 159, 60, threads);
-    BenchStability("rod/rigid_nh20.json", 0, 0, threads);
-    BenchStability("rod/flexible_4krod.json", 0, 0, threads);
+    BenchStability("duffing.json", 0, 0, acceptance.threads);
+    BenchStability("friction/frc_n10.json", 0, 0, acceptance.threads);
+    BenchStability("friction/frc_n10.json", 159, 60, acceptance.threads);
+    BenchStability("rod/rigid_nh20.json", 0, 0, acceptance.threads);
+    BenchStability("rod/flexible_4krod.json", 0, 0, acceptance.threads);
   }
   if (run(9)) {
     nfrc::bench::BenchAcceptance(nfrc::bench::LuUnitSeconds, acceptance);
@@ -624,6 +628,7 @@ int main(int argc, char** argv) {
   if (run(11)) nfrc::bench::BenchStepWeights(g_lu_unit);
   if (run(12)) nfrc::bench::BenchStudies(g_lu_unit);
   if (run(13)) nfrc::bench::BenchDenseLu(g_lu_unit);
-  if (run(14)) nfrc::bench::BenchOutputs(std::max(runs, 3), threads, g_lu_unit);
+  if (run(14))
+    nfrc::bench::BenchOutputs(std::max(acceptance.runs, 3), acceptance.threads, g_lu_unit);
   return 0;
 }
