@@ -4,7 +4,7 @@
 # and ASan + UBSan; a UB report aborts (no recovery) so that libFuzzer counts it as a crash,
 # and assertions stay on (Eigen's index checks, nlohmann's JSON_ASSERT) so a failed one is a
 # finding. -O1 with line tables only: the usual fuzzing trade-off (fast enough, stacks with
-# file and line; full debug info only slowed the build).
+# file and line; full debug information adds compile time and object size, not stack detail).
 option(NFRC_FUZZ "Build tools/fuzz/case_reader_fuzzer (clang, libFuzzer, ASan, UBSan)" OFF)
 if(NFRC_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
