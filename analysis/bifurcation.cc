@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "analysis/hill_reduction.h"
 #include "analysis/trace.h"
 #include "continuation/fixed_lambda.h"
 
@@ -67,7 +68,11 @@ FloquetResult StabilityMonitor::Analyze(const Eigen::VectorXd& y, double omega,
   HillOptions hill;
   hill.unstable_tolerance = options_.unstable_tolerance;
   try {
-    if (!hill_) hill_ = std::make_unique<HillAssembler>(system_);
+    if (!hill_) {
+      hill_ = std::make_unique<HillAssembler>(
+          system_,
+          options_.hill_modes >= 0 ? HillReduction(system_, options_.hill_modes) : nullptr);
+    }
     return SolveHill(hill_->Assemble(y, omega), hill, warm_start);
   } catch (const std::runtime_error& error) {
     FloquetResult failed;

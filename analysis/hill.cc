@@ -308,9 +308,9 @@ struct HillAssembler::Cache {
   HillFactors factors;  // Cᵀ, Mᵀ and D (the laws' parts are the point's)
 };
 
-HillAssembler::HillAssembler(HarmonicSystem& system)
-    : system_(system), cache_(std::make_unique<Cache>()) {
-  const LinearModel& model = system.model();
+HillAssembler::HillAssembler(HarmonicSystem& system, std::shared_ptr<const HillModel> reduced)
+    : system_(system), reduced_(std::move(reduced)), cache_(std::make_unique<Cache>()) {
+  const LinearModel& model = reduced_ ? reduced_->model : system.model();
   const HarmonicSet& set = system.harmonic_set();
   const int nc = set.NumCoefficients();
   const int n = static_cast<int>(model.mass.rows());
@@ -366,7 +366,7 @@ HillAssembler::HillAssembler(HarmonicSystem& system)
       continue;
     }
     const int local = j / nc, c = j % nc;
-    const int dof = system.retained()[static_cast<size_t>(local)];
+    const int dof = PencilDofs({system.retained()[static_cast<size_t>(local)]})[0];
     targets = {{Target{dof * nc + c, 1.0}, Target{0, 0.0}}, 1};
     if (obstacle_offset[static_cast<size_t>(local)] >= 0) {
       targets.entries[1] = Target{obstacle_offset[static_cast<size_t>(local)] + c, -1.0};
@@ -405,6 +405,18 @@ HillAssembler::HillAssembler(HarmonicSystem& system)
 }
 
 HillAssembler::~HillAssembler() = default;
+
+std::vector<int> HillAssembler::PencilDofs(const std::vector<int>& dofs) const {
+  if (!reduced_) return dofs;
+  std::vector<int> result;
+  result.reserve(dofs.size());
+  for (int dof : dofs) {
+    const int kept = reduced_->dof_of[static_cast<size_t>(dof)];
+    assert(kept >= 0 && "a reduction for Hill keeps every retained DOF");
+    result.push_back(kept);
+  }
+  return result;
+}
 
 HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
   // The linear part and the laws' binding only: each law evaluates itself as it linearises.
@@ -447,14 +459,14 @@ HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {
       if (!law_memory->residual_terms.empty() && !linear_rows) {
         linear_rows.emplace(std::array<RowMatrix, 3>{*linear[0], *linear[1], *linear[2]});
       }
-      AddMemory(*law_memory, ctx, law.Dofs(), system_.harmonic_set(), cache.map,
+      AddMemory(*law_memory, ctx, PencilDofs(law.Dofs()), system_.harmonic_set(), cache.map,
                 linear_rows ? &*linear_rows : nullptr, &memory);
     }
     const auto dependence = law.LinearResidualPart(ctx, y, omega);
     if (!dependence) continue;
     if (!linear_rows)
       linear_rows.emplace(std::array<RowMatrix, 3>{*linear[0], *linear[1], *linear[2]});
-    const std::vector<int> dofs = law.Dofs();
+    const std::vector<int> dofs = PencilDofs(law.Dofs());
     HillFactors::RowDependence& structured = factors.dependences.emplace_back();
     structured.weights = dependence->weights;
     for (const auto& [dof_index, coefficient] : dependence->terms) {

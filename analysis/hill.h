@@ -70,13 +70,25 @@ struct HillPencil {
   int memory_unknowns = 0;
 };
 
+// A linear model for Hill's pencil other than the system's own: a reduction of it that keeps
+// every DOF the system retains as a DOF of its own (HillReduction, analysis/hill_reduction.h).
+struct HillModel {
+  LinearModel model;
+  // The reduced DOF of each DOF of the system's model; −1 for one the reduction dropped.
+  std::vector<int> dof_of;
+};
+
 // Assembles the pencils of one HarmonicSystem at many points (a trace analyses every one):
 // the Kronecker products of the linear part, which depend on neither y nor ω, and the map
 // from the system's unknowns to the full ones are built once, at construction. The system
 // must outlive the assembler and keep its model and laws.
 class HillAssembler {
  public:
-  explicit HillAssembler(HarmonicSystem& system);
+  // With `reduced`, the pencil's linear part is that model's (its DOFs are the pencil's) while
+  // the laws are still linearised by the system at its own solution: their active samples and
+  // weights are the exact ones, and only the structure's dynamics away from them is reduced.
+  explicit HillAssembler(HarmonicSystem& system,
+                         std::shared_ptr<const HillModel> reduced = nullptr);
   ~HillAssembler();
   HillAssembler(const HillAssembler&) = delete;
   HillAssembler& operator=(const HillAssembler&) = delete;
@@ -90,7 +102,11 @@ class HillAssembler {
 
  private:
   struct Cache;
+  // The pencil's DOFs of a law's (or retained) model DOFs.
+  std::vector<int> PencilDofs(const std::vector<int>& dofs) const;
+
   HarmonicSystem& system_;
+  std::shared_ptr<const HillModel> reduced_;
   std::unique_ptr<Cache> cache_;
 };
 

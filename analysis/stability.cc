@@ -1,8 +1,10 @@
 #include "analysis/stability.h"
 
 #include <cmath>
+#include <string>
 
 #include "core/errors.h"
+#include "models/craig_bampton.h"
 
 namespace nfrc {
 
@@ -18,6 +20,10 @@ void StabilityOptions::Validate() const {
   }
   if (max_bifurcation_iterations < 1) {
     throw InputError("stability.max_bifurcation_iterations: must be at least 1");
+  }
+  if (hill_modes < -1 || hill_modes > kMaxReductionModes) {
+    throw InputError("stability.hill_modes: must be -1 (the whole model) or between 0 and " +
+                     std::to_string(kMaxReductionModes) + ", got " + std::to_string(hill_modes));
   }
 }
 

@@ -25,6 +25,10 @@ struct StabilityOptions {
   // switched (Bifurcation::discontinuous): no smooth crossing lies in between, so its
   // localisation stops there instead of halving a jump down to bifurcation_tolerance.
   double jump_tolerance = 1e-4;
+  // −1: Hill's pencil on the whole linear model. N ≥ 0: on its Craig–Bampton reduction onto
+  // the DOFs the laws act on plus N fixed-interface modes (analysis/hill_reduction.h), a
+  // smaller eigenproblem for a fine mesh, whose error is the user's to check (0 to 500).
+  int hill_modes = -1;
   // Throws InputError("stability.<field>: ...") for a bad value.
   void Validate() const;
 };

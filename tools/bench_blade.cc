@@ -15,17 +15,24 @@
 
 namespace nfrc::bench {
 
+bool BladeMatrices() {
+  const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/blade";
+  if (std::filesystem::exists(dir + "/K.mtx") && std::filesystem::exists(dir + "/M.mtx")) {
+    return true;
+  }
+  const auto start = Clock::now();
+  const std::string command = "/usr/bin/python3 " + dir + "/make_blade.py";
+  if (std::system(command.c_str()) != 0) {
+    std::printf("blade: %s failed; skipped\n", command.c_str());
+    return false;
+  }
+  std::printf("blade: matrices generated in %.1f s\n", Seconds(start));
+  return true;
+}
+
 void BenchBlade(int repeats, double lu_unit) {
   const std::string dir = std::string(NFRC_SOURCE_DIR) + "/cases/blade";
-  if (!std::filesystem::exists(dir + "/K.mtx") || !std::filesystem::exists(dir + "/M.mtx")) {
-    const auto start = Clock::now();
-    const std::string command = "/usr/bin/python3 " + dir + "/make_blade.py";
-    if (std::system(command.c_str()) != 0) {
-      std::printf("blade: %s failed; section skipped\n", command.c_str());
-      return;
-    }
-    std::printf("blade: matrices generated in %.1f s\n", Seconds(start));
-  }
+  if (!BladeMatrices()) return;
   const auto load_start = Clock::now();
   const Case the_case = LoadCase(dir + "/blade.json");
   const double load = Seconds(load_start);

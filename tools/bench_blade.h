@@ -8,4 +8,8 @@ namespace nfrc::bench {
 // (`lu_unit` s), with fallbacks counted and the peak resident memory.
 void BenchBlade(int repeats, double lu_unit);
 
+// Whether cases/blade/K.mtx and M.mtx exist, generating them (make_blade.py) if missing; false,
+// with a message on stdout, if that failed.
+bool BladeMatrices();
+
 }  // namespace nfrc::bench

@@ -80,7 +80,8 @@ nlohmann::json StabilityOptionsToJson(const StabilityOptions& o) {
           {"unstable_tolerance", o.unstable_tolerance},
           {"bifurcation_tolerance", o.bifurcation_tolerance},
           {"max_bifurcation_iterations", o.max_bifurcation_iterations},
-          {"jump_tolerance", o.jump_tolerance}};
+          {"jump_tolerance", o.jump_tolerance},
+          {"hill_modes", o.hill_modes}};
 }
 
 // The CSV's stability columns: empty when not computed, so that a reader tells "not

@@ -114,6 +114,7 @@ StabilityOptions ReadStability(const nlohmann::json& spec) {
   o.max_bifurcation_iterations =
       fields.OptionalInt("max_bifurcation_iterations", o.max_bifurcation_iterations);
   o.jump_tolerance = fields.OptionalNumber("jump_tolerance", o.jump_tolerance);
+  o.hill_modes = fields.OptionalInt("hill_modes", o.hill_modes);
   fields.Finish();
   return o;
 }

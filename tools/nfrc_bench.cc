@@ -51,7 +51,12 @@
 //  14. what `nfrc run` adds to the trace (tools/bench_outputs.h): NLvib's two curves, the rod,
 //      Fig. 7 (N = 10) and point E traced alone and with their files written, alternating
 //      (`runs=N` times each, at least 3; Hill beside as threads=N says), and how many times
-//      branch.json was written.
+//      branch.json was written;
+//  15. Hill's pencil on a Craig–Bampton reduction (stability.hill_modes; tools/
+//      bench_hill_reduction.h): the rod against a rigid and a 4 k_rod obstacle traced with
+//      the whole pencil and with 4, 8, 12 and all 19 interior modes, and the blade with 4, 8
+//      and 12 (its matrices generated if missing): time, and the verdicts,
+//      unstable counts and max |μ| against the whole pencil's.
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <chrono>
@@ -78,6 +83,7 @@
 #include "tools/allocator.h"
 #include "tools/bench_acceptance.h"
 #include "tools/bench_blade.h"
+#include "tools/bench_hill_reduction.h"
 #include "tools/bench_common.h"
 #include "tools/bench_kernels.h"
 #include "tools/bench_outputs.h"
@@ -535,7 +541,7 @@ int IntArgument(const std::string& arg, size_t key_length, long low, long high) 
   return *value;
 }
 
-constexpr int kSections = 14;
+constexpr int kSections = 15;
 
 // usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [threads=N] [target=N]
 // [case=TEXT ...] runs the numbered sections above (default: all); runs=N repeats section 9 in
@@ -630,5 +636,6 @@ int main(int argc, char** argv) {
   if (run(13)) nfrc::bench::BenchDenseLu(g_lu_unit);
   if (run(14))
     nfrc::bench::BenchOutputs(std::max(acceptance.runs, 3), acceptance.threads, g_lu_unit);
+  if (run(15)) nfrc::bench::BenchHillReduction(g_lu_unit);
   return 0;
 }

@@ -169,7 +169,7 @@ class _Continuation(_Options):
 
 class _Stability(_Options):
     """A case's stability options (enabled, unstable_tolerance, bifurcation_tolerance,
-    max_bifurcation_iterations, jump_tolerance)."""
+    max_bifurcation_iterations, jump_tolerance, hill_modes)."""
 
     __slots__ = ()
     _what = "stability"

@@ -11,7 +11,7 @@ using namespace pybind11::literals;
 
 const char kStabilityOptions[] =
     "enabled, unstable_tolerance, bifurcation_tolerance, max_bifurcation_iterations, "
-    "jump_tolerance";
+    "jump_tolerance, hill_modes";
 
 py::dict ResponseMeasures(const PointMeasures& m) {
   return py::dict("energy"_a = m.energy, "max_abs"_a = m.max_abs, "min"_a = m.min, "max"_a = m.max,
@@ -29,7 +29,7 @@ py::dict GetStability(const StabilityOptions& s) {
   return py::dict("enabled"_a = s.enabled, "unstable_tolerance"_a = s.unstable_tolerance,
                   "bifurcation_tolerance"_a = s.bifurcation_tolerance,
                   "max_bifurcation_iterations"_a = s.max_bifurcation_iterations,
-                  "jump_tolerance"_a = s.jump_tolerance);
+                  "jump_tolerance"_a = s.jump_tolerance, "hill_modes"_a = s.hill_modes);
 }
 
 void SetStabilityOption(StabilityOptions& s, const std::string& key, const py::handle& value) {
@@ -50,6 +50,8 @@ void SetStabilityOption(StabilityOptions& s, const std::string& key, const py::h
     s.max_bifurcation_iterations = Cast<int>(value, field, "an integer");
   } else if (key == "jump_tolerance") {
     s.jump_tolerance = Cast<double>(value, field, "a number");
+  } else if (key == "hill_modes") {
+    s.hill_modes = Cast<int>(value, field, "an integer");
   } else {
     throw InputError(field + ": unknown option (known: " + kStabilityOptions + ")");
   }

@@ -31,7 +31,7 @@ def test_stability_options_default_and_from_dict():
     defaults = nfrc.Case.from_dict(duffing_dict()).stability
     assert defaults.to_dict() == {"enabled": True, "unstable_tolerance": 1e-6,
                                   "bifurcation_tolerance": 1e-6, "max_bifurcation_iterations": 40,
-                                  "jump_tolerance": 1e-4}
+                                  "jump_tolerance": 1e-4, "hill_modes": -1}
     case = nfrc.Case.from_dict(duffing_dict(enabled=False, unstable_tolerance=1e-4,
                                             max_bifurcation_iterations=7))
     assert case.stability.enabled is False
@@ -54,6 +54,7 @@ def test_stability_options_are_set_and_validated():
                                 ("bifurcation_tolerance", 2.0, r"stability\.bifurcation_tolerance"),
                                 ("max_bifurcation_iterations", 0, r"stability\.max_bifurcation"),
                                 ("jump_tolerance", 0.0, r"stability\.jump_tolerance"),
+                                ("hill_modes", -2, r"stability\.hill_modes"),
                                 ("enabled", 1, r"stability\.enabled"),
                                 ("enabled", "yes", r"stability\.enabled"),
                                 ("tolerance", 1e-3, r"stability\.tolerance: unknown")]:

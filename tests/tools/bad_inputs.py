@@ -282,6 +282,10 @@ case_error("stability_bifurcation_tolerance_one", DUFFING,
            "stability.bifurcation_tolerance")
 case_error("stability_jump_tolerance_negative", DUFFING,
            setitem(["stability"], {"jump_tolerance": -1e-4}), "stability.jump_tolerance")
+case_error("stability_hill_modes_below_minus_one", DUFFING,
+           setitem(["stability"], {"hill_modes": -2}), "stability.hill_modes")
+case_error("stability_hill_modes_more_than_interior", DUFFING,
+           setitem(["stability"], {"hill_modes": 3}), "stability.hill_modes")
 case_error("stability_iterations_fraction", DUFFING,
            setitem(["stability"], {"max_bifurcation_iterations": 2.5}),
            "stability.max_bifurcation_iterations", "expected an integer")

@@ -17,7 +17,7 @@ def main(bench):
             failures.append(what)
 
     for bad, said in [("acuracy", 'unknown argument "acuracy"'),
-                      ("15", 'unknown argument "15"'),
+                      ("16", 'unknown argument "16"'),
                       ("0", 'unknown argument "0"'),
                       ("9x", 'unknown argument "9x"'),
                       ("runs=0", "runs=0 needs a whole number from 1 to 1000"),
