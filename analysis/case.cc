@@ -236,21 +236,16 @@ void Case::Validate() const {
   }
   validation.Validate();
   stability.Validate();
+  const ProblemDimensions dimensions = DimensionsOf(*this);
   if (stability.hill_modes > 0 && !laws.empty()) {
-    std::vector<int> kept;
-    for (const LawSpec& law : laws) {
-      for (int dof : LawDofs(law)) {
-        if (std::find(kept.begin(), kept.end(), dof) == kept.end()) kept.push_back(dof);
-      }
-    }
-    const int interior = n - static_cast<int>(kept.size());
+    const int interior = n - static_cast<int>(dimensions.num_retained);  // the laws' DOFs kept
     if (stability.hill_modes > interior) {
       throw InputError("stability.hill_modes: " + std::to_string(stability.hill_modes) +
                        " fixed-interface modes asked, the model has " + std::to_string(interior) +
                        " DOFs besides the laws'");
     }
   }
-  CheckProblemSize(DimensionsOf(*this));
+  CheckProblemSize(dimensions);
 }
 
 std::unique_ptr<HarmonicSystem> BuildSystem(const Case& the_case) {

@@ -366,7 +366,7 @@ HillAssembler::HillAssembler(HarmonicSystem& system, std::shared_ptr<const HillM
       continue;
     }
     const int local = j / nc, c = j % nc;
-    const int dof = PencilDofs({system.retained()[static_cast<size_t>(local)]})[0];
+    const int dof = PencilDof(system.retained()[static_cast<size_t>(local)]);
     targets = {{Target{dof * nc + c, 1.0}, Target{0, 0.0}}, 1};
     if (obstacle_offset[static_cast<size_t>(local)] >= 0) {
       targets.entries[1] = Target{obstacle_offset[static_cast<size_t>(local)] + c, -1.0};
@@ -406,16 +406,16 @@ HillAssembler::HillAssembler(HarmonicSystem& system, std::shared_ptr<const HillM
 
 HillAssembler::~HillAssembler() = default;
 
-std::vector<int> HillAssembler::PencilDofs(const std::vector<int>& dofs) const {
-  if (!reduced_) return dofs;
-  std::vector<int> result;
-  result.reserve(dofs.size());
-  for (int dof : dofs) {
-    const int kept = reduced_->dof_of[static_cast<size_t>(dof)];
-    assert(kept >= 0 && "a reduction for Hill keeps every retained DOF");
-    result.push_back(kept);
-  }
-  return result;
+int HillAssembler::PencilDof(int dof) const {
+  if (!reduced_) return dof;
+  const int kept = reduced_->dof_of[static_cast<size_t>(dof)];
+  assert(kept >= 0 && "a reduction for Hill keeps every retained DOF");
+  return kept;
+}
+
+std::vector<int> HillAssembler::PencilDofs(std::vector<int> dofs) const {
+  for (int& dof : dofs) dof = PencilDof(dof);
+  return dofs;
 }
 
 HillPencil HillAssembler::Assemble(const Eigen::VectorXd& y, double omega) {

@@ -102,8 +102,9 @@ class HillAssembler {
 
  private:
   struct Cache;
-  // The pencil's DOFs of a law's (or retained) model DOFs.
-  std::vector<int> PencilDofs(const std::vector<int>& dofs) const;
+  // The pencil's DOF of a retained model DOF, and of a law's DOFs.
+  int PencilDof(int dof) const;
+  std::vector<int> PencilDofs(std::vector<int> dofs) const;
 
   HarmonicSystem& system_;
   std::shared_ptr<const HillModel> reduced_;

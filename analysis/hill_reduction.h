@@ -14,7 +14,7 @@ namespace nfrc {
 // (retained + modes)·N_c unknowns instead of all DOFs'. What it drops are the exponents of the
 // higher fixed-interface modes, which the contact couples to the retained DOFs only through
 // their dynamic flexibility above the kept band; its error on a branch is measured against
-// the full pencil (nfrc_bench 12, the README's "Hill on a reduced model").
+// the full pencil (nfrc_bench 15, the README's "Hill on a reduced model").
 // Throws InputError naming stability.hill_modes where the reduction cannot be built (more
 // modes than interior DOFs, an interior that is not clamped).
 std::shared_ptr<const HillModel> HillReduction(const HarmonicSystem& system, int modes);

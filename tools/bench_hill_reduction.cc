@@ -63,7 +63,7 @@ void Compare(const std::string& name, int modes, const Run& run, const Run& full
 // The case traced with the whole pencil, then with each number of modes.
 void Bench(const std::string& name, const Case& the_case, const std::vector<int>& modes,
            double lu_unit) {
-  std::printf("Hill on a Craig-Bampton reduction, %s (%d DOFs, %zu laws' DOFs kept):\n",
+  std::printf("Hill on a Craig-Bampton reduction, %s (%d DOFs, %zu laws, their DOFs kept):\n",
               name.c_str(), the_case.model.model.num_dofs(), the_case.laws.size());
   const Run full = Trace(the_case, -1);
   Compare(name, -1, full, full, lu_unit);
