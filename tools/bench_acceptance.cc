@@ -76,10 +76,12 @@ double Accuracy(Case the_case, const TraceResult& trace, Plotted plotted) {
 }
 
 Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int perturbation,
-               int threads, int newton_target) {
+               const AcceptanceOptions& settings) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/" + c.file);
-  the_case.stability.enabled = true;
-  if (newton_target > 0) the_case.continuation.target_newton_iterations = newton_target;
+  the_case.stability.enabled = settings.stability;
+  if (settings.newton_target > 0) {
+    the_case.continuation.target_newton_iterations = settings.newton_target;
+  }
   if (perturbation > 0 && !the_case.model.forcing.empty()) {
     ForcingTerm& term = the_case.model.forcing.front();
     term.cos *= 1.0 + perturbation * kPerturbation;
@@ -87,7 +89,7 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
     std::printf("(forcing x (1 + %d x %.1e)) ", perturbation, kPerturbation);
   }
   TraceOptions options;
-  options.threads = threads;
+  options.threads = settings.threads;
   const auto start = Clock::now();
   const TraceResult trace = TraceCase(the_case, options);
   const double seconds = Seconds(start);
@@ -142,14 +144,14 @@ Timing RunCase(const AcceptanceCase& c, double lu_unit, bool accuracy, int pertu
 // One friction point at N_φ = 640 (harmonics 1, 3, …, 1279: 1 280 coefficients per signal,
 // 2 560 unknowns with the friction force): the start
 // solve at ω = 0.75 of the two-DOF oscillator, N = 10.
-Timing RunFineFrictionPoint(double lu_unit, int threads) {
+Timing RunFineFrictionPoint(double lu_unit, const AcceptanceOptions& settings) {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/friction/point_e.json");
   the_case.harmonics = HarmonicSet(1279, true);
   the_case.continuation.lambda_start = 0.75;
   the_case.continuation.max_points = 1;
-  the_case.stability.enabled = true;
+  the_case.stability.enabled = settings.stability;
   TraceOptions options;
-  options.threads = threads;
+  options.threads = settings.threads;
   const auto start = Clock::now();
   const TraceResult trace = TraceCase(the_case, options);
   const double seconds = Seconds(start);
@@ -344,8 +346,12 @@ void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOpt
   const auto keep = [](std::optional<Timing> timing, std::vector<Timing>* into) {
     if (timing) into->push_back(*timing);
   };
-  std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n",
-              HillThreads(options.threads), options.threads);
+  if (options.stability) {
+    std::printf("Hill's analyses on %d threads beside the trace (threads=%d)\n",
+                HillThreads(options.threads), options.threads);
+  } else {
+    std::printf("stability off: the trace alone, not the budgets' measure\n");
+  }
   if (options.newton_target > 0)
     std::printf("every case with target_newton_iterations %d\n", options.newton_target);
   for (int round = 0; round < options.runs; ++round) {
@@ -356,13 +362,12 @@ void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOpt
       if (!selected(cases[i].file)) continue;
       const int perturbation = options.perturb ? round : 0;
       keep(InChild([&] {
-             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation,
-                            options.threads, options.newton_target);
+             return RunCase(cases[i], Calibrate(lu_unit), with_accuracy, perturbation, options);
            }),
            &timings[i]);
     }
     if (selected(kFinePoint)) {
-      keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), options.threads); }),
+      keep(InChild([&] { return RunFineFrictionPoint(Calibrate(lu_unit), options); }),
            &timings[cases.size()]);
     }
   }

@@ -24,6 +24,10 @@ struct AcceptanceOptions {
   // > 0: every case (and its accuracy reference) traced with that
   // continuation.target_newton_iterations instead of its own, a study of the step pacing.
   int newton_target = 0;
+  // Hill's analyses at every point, as the budgets count them (the default); false
+  // (`nostability`) times the trace alone: the floor that no cheaper stability analysis can
+  // go below.
+  bool stability = true;
   // Only the cases whose name (e.g. "friction/point_e.json", "friction point at N_phi = 640")
   // contains one of these; empty (the default): every case. A word that names no case is an
   // error, so that a typo does not run nothing in silence.

@@ -83,8 +83,8 @@
 #include "tools/allocator.h"
 #include "tools/bench_acceptance.h"
 #include "tools/bench_blade.h"
-#include "tools/bench_hill_reduction.h"
 #include "tools/bench_common.h"
+#include "tools/bench_hill_reduction.h"
 #include "tools/bench_kernels.h"
 #include "tools/bench_outputs.h"
 #include "tools/bench_studies.h"
@@ -543,14 +543,15 @@ int IntArgument(const std::string& arg, size_t key_length, long low, long high) 
 
 constexpr int kSections = 15;
 
-// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [threads=N] [target=N]
-// [case=TEXT ...] runs the numbered sections above (default: all); runs=N repeats section 9 in
-// N rounds and summarises each case's times; perturb makes round r trace a copy with the first
-// forcing term scaled by 1 + r·4.4e-16; threads=N runs Hill's analyses of sections 8 and 9 on N
-// threads beside the trace (TraceOptions::threads; default -1, one per hardware thread; 0 in
+// usage: nfrc_bench [SECTION ...] [accuracy] [runs=N] [perturb] [nostability] [threads=N]
+// [target=N] [case=TEXT ...] runs the numbered sections above (default: all); runs=N repeats
+// section 9 in N rounds and summarises each case's times; perturb makes round r trace a copy with
+// the first forcing term scaled by 1 + r·4.4e-16; threads=N runs Hill's analyses of sections 8 and
+// 9 on N threads beside the trace (TraceOptions::threads; default -1, one per hardware thread; 0 in
 // turn); target=N traces section 9's cases with continuation.target_newton_iterations N instead
-// of their own; case=TEXT runs only section 9's cases whose name contains TEXT (repeatable).
-// Anything else is an error (exit 2), not a section that does not exist.
+// of their own; nostability traces them with stability off (the trace's floor); case=TEXT runs only
+// section 9's cases whose name contains TEXT (repeatable). Anything else is an error (exit 2), not
+// a section that does not exist.
 int main(int argc, char** argv) {
   nfrc::KeepFreedMemoryMapped();
   std::vector<int> sections;
@@ -562,6 +563,8 @@ int main(int argc, char** argv) {
       acceptance.accuracy = true;
     } else if (arg == "perturb") {
       acceptance.perturb = true;
+    } else if (arg == "nostability") {
+      acceptance.stability = false;
     } else if (arg.rfind("runs=", 0) == 0) {
       acceptance.runs = IntArgument(arg, 5, 1, 1000);
     } else if (arg.rfind("threads=", 0) == 0) {
@@ -575,7 +578,7 @@ int main(int argc, char** argv) {
       if (!section) {
         std::fprintf(stderr,
                      "nfrc_bench: unknown argument \"%s\" (a section 1 to %d, accuracy, perturb, "
-                     "runs=N, threads=N, target=N or case=TEXT)\n",
+                     "nostability, runs=N, threads=N, target=N or case=TEXT)\n",
                      arg.c_str(), kSections);
         return 2;
       }

@@ -1,6 +1,8 @@
 """nfrc_bench's arguments: a typo is an error naming it (exit 2), never a run of nothing, and
-case=TEXT runs only the acceptance cases whose name contains TEXT."""
+case=TEXT runs only the acceptance cases whose name contains TEXT, nostability traces them
+without Hill's analyses."""
 
+import re
 import subprocess
 import sys
 
@@ -45,6 +47,17 @@ def main(bench):
           f"9 case=duffing did not run Duffing: {result.stdout!r}")
     for other in ["one_dof_coulomb", "nlvib", "fig7", "point_e", "rod/", "N_phi = 640"]:
         check(other not in result.stdout, f"9 case=duffing also ran {other}")
+
+    # nostability: the same trace (stability does not steer it) without Hill's analyses, so
+    # without the bifurcations that the default run finds at Duffing's two folds.
+    with_stability = re.search(r"(\d+) points, .* (\d+) bifurcations", result.stdout)
+    result = run(bench, "9", "case=duffing", "nostability")
+    check(result.returncode == 0, f"9 case=duffing nostability: exit {result.returncode}")
+    without = re.search(r"(\d+) points, .* (\d+) bifurcations", result.stdout)
+    check("stability off" in result.stdout and with_stability is not None and without is not None
+          and without.group(1) == with_stability.group(1) and int(with_stability.group(2)) > 0
+          and without.group(2) == "0",
+          f"9 case=duffing nostability: {result.stdout!r}")
 
     for failure in failures:
         print("FAILED:", failure)
