@@ -39,12 +39,12 @@ std::vector<std::string> AcceptanceCaseNames();
 // Throws std::invalid_argument for an entry of AcceptanceOptions::only that names no case.
 void CheckAcceptanceSelection(const std::vector<std::string>& only);
 
-// The acceptance cases of the speed issue, each a whole TraceCase with stability on, in a
-// child process so that its peak memory (ru_maxrss) is its own: wall time in ms and in
-// LU(320) units (`lu_unit()` s, timed again in each child just before its case, so that a
-// load that comes and goes on a shared machine shows in both), the issue's budget, points, Newton
-// iterations, bifurcations and, with `accuracy`, the curve's accuracy. Also one friction point
-// at N_φ = 640. Checks `only` first (CheckAcceptanceSelection).
+// The acceptance cases of the speed issue, each a whole TraceCase with stability on (off with
+// AcceptanceOptions::stability false), in a child process so that its peak memory (ru_maxrss)
+// is its own: wall time in ms and in LU(320) units (`lu_unit()` s, timed again in each child just
+// before its case, so that a load that comes and goes on a shared machine shows in both), the
+// issue's budget, points, Newton iterations, bifurcations and, with `accuracy`, the curve's
+// accuracy. Also one friction point at N_φ = 640. Checks `only` first (CheckAcceptanceSelection).
 void BenchAcceptance(const std::function<double()>& lu_unit, const AcceptanceOptions& options);
 
 // Points, Newton iterations, time and ln E accuracy of the Fig. 7 curve (N = 10) for the
