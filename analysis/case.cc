@@ -26,6 +26,10 @@ constexpr double kDenseCopies = 4.0;
 // Sparse LU and solves per harmonic and retained DOF of a banded FE model, per model DOF
 // (flop), measured on the rod: about 1 s per ω for 10⁶ DOFs and 21 harmonics.
 constexpr double kCondensationFlopPerDof = 2000;
+// How far above the model's frequency scale sqrt(max K_ii / max M_ii) (at least its highest
+// eigenfrequency's order) a traced ω may lie: 10⁶ times, ω²M swamps K by 10¹², and the
+// dynamic stiffness keeps four digits of the stiffness.
+constexpr double kMaxFrequencyRatio = 1e6;
 // Oversampling N_t/(2H + 1) beyond which more samples cannot change a result (the cases of
 // the papers use at most ~30×; AFT of a degree-p law is exact from (p + 1)H + 1 samples).
 constexpr double kMaxOversampling = 1024;
@@ -140,6 +144,31 @@ ProblemDimensions DimensionsOf(const Case& c) {
   return d;
 }
 
+void ValidateContinuation(const ContinuationOptions& options) {
+  try {
+    options.Validate();
+  } catch (const std::invalid_argument& error) {
+    // The engine names its own fields; the case file names some of them otherwise.
+    static const std::pair<const char*, const char*> kCaseNames[] = {
+        {"initial_step", "step"}, {"lambda_start", "omega_start"}, {"lambda_end", "omega_end"}};
+    std::string message = error.what();
+    for (const auto& [engine, file] : kCaseNames) {
+      const std::string prefix = std::string(engine) + ":";
+      if (message.rfind(prefix, 0) == 0) message = file + message.substr(prefix.size() - 1);
+    }
+    throw InputError("continuation." + message);
+  }
+}
+
+double FrequencyScale(const LinearModel& model) {
+  double k = 0.0, m = 0.0;
+  for (int dof = 0; dof < model.num_dofs(); ++dof) {
+    k = std::max(k, std::abs(model.stiffness.coeff(dof, dof)));
+    m = std::max(m, std::abs(model.mass.coeff(dof, dof)));
+  }
+  return k > 0.0 && m > 0.0 ? std::sqrt(k / m) : 0.0;
+}
+
 void StartOptions::Validate() const {
   if (!(homotopy_factor > 1.0) || !std::isfinite(homotopy_factor)) {
     throw InputError("continuation.start_homotopy_factor: must be finite and > 1");
@@ -189,6 +218,7 @@ void Case::Validate() const {
   for (size_t i = 0; i < laws.size(); ++i) {
     try {
       ValidateLaw(laws[i], model.model);
+      CheckLawRanges(laws[i], model.model);
     } catch (const InputError& error) {
       throw InputError("nonlinearities[" + std::to_string(i) + "]." + error.what());
     }
@@ -210,11 +240,6 @@ void Case::Validate() const {
                        std::to_string(output_dofs[i]) + " is not in the model");
     }
   }
-  for (double omega : signals_at) {
-    if (!(omega > 0.0) || !std::isfinite(omega)) {
-      throw InputError("output.signals_at: frequencies must be positive");
-    }
-  }
   if (!(continuation.lambda_start > 0.0) || !std::isfinite(continuation.lambda_start)) {
     throw InputError("continuation.omega_start: must be positive");
   }
@@ -224,10 +249,25 @@ void Case::Validate() const {
   if (continuation.lambda_end == continuation.lambda_start) {
     throw InputError("continuation.omega_end: must differ from omega_start");
   }
-  try {
-    continuation.Validate();
-  } catch (const std::invalid_argument& error) {
-    throw InputError(std::string("continuation.") + error.what());
+  ValidateContinuation(continuation);
+  // A response far above every mode the model resolves is its matrices' rounding: refused
+  // before it shows as a singular condensation or a stalled start.
+  const double scale = FrequencyScale(model.model);
+  const double highest = scale * kMaxFrequencyRatio;
+  for (const auto& [field, lambda] : {std::pair{"omega_start", continuation.lambda_start},
+                                      std::pair{"omega_end", continuation.lambda_end}}) {
+    const double omega = lambda * period_multiple;
+    if (scale > 0.0 && omega > highest) {
+      throw InputError("continuation." + std::string(field) + ": " + Count(omega) +
+                       " is more than " + Count(kMaxFrequencyRatio) +
+                       " times the model's highest frequency scale sqrt(max K_ii / max M_ii) = " +
+                       Count(scale) + " (at most " + Count(highest) + ")");
+    }
+  }
+  for (double omega : signals_at) {
+    if (!(omega > 0.0) || !std::isfinite(omega)) {
+      throw InputError("output.signals_at: frequencies must be positive");
+    }
   }
   start.Validate();
   if (method == Method::kLemkeStepping) {

@@ -91,6 +91,14 @@ struct Case {
   PlotSpec Plot() const { return {plot_measure, output_dofs}; }
 };
 
+// ContinuationOptions::Validate, as InputError naming the case file's field
+// ("continuation.step: ..." for the engine's initial_step).
+void ValidateContinuation(const ContinuationOptions& options);
+
+// sqrt(max |K_ii| / max |M_ii|) (rad per time unit): the order of the highest frequency the
+// model resolves (0 without stiffness or mass).
+double FrequencyScale(const LinearModel& model);
+
 // The sizes that decide what a problem costs, known before anything large is allocated
 // (a reader fills them from the raw numbers of a file).
 struct ProblemDimensions {

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <optional>
+#include <sstream>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -151,6 +152,20 @@ Case CaseParameter::With(const Case& the_case, double value) const {
   Set(&changed, value);
   changed.Validate();
   return changed;
+}
+
+void CheckStudyTarget(double from, double to) {
+  if (!std::isfinite(to) || to == from) {
+    throw InputError("to: must be finite and differ from the parameter's value in the case");
+  }
+  if (from != 0.0 && std::abs(to - from) > kMaxParameterSpan * std::abs(from)) {
+    std::ostringstream message;
+    message << "to: " << to << " lies more than " << kMaxParameterSpan << " times the case's value "
+            << from
+            << " away from it (the curve's steps are fractions of that span; go there in "
+               "stages, each from the last's end)";
+    throw InputError(message.str());
+  }
 }
 
 }  // namespace nfrc

@@ -49,4 +49,13 @@ class CaseParameter {
   std::string field_;  // the law's field name
 };
 
+// How far a study in a parameter may go from the case's value (fold, peak and Neimark–Sacker
+// curves): its steps are fractions of the span, so that beyond 10⁶ times the case's own value
+// the smallest step leaps past the case's neighbourhood, and the curve cannot start.
+inline constexpr double kMaxParameterSpan = 1e6;
+
+// Throws InputError("to: ...") unless `to` is finite, differs from `from` (the case's value)
+// and lies within kMaxParameterSpan times |from| of it (any `to` where from is 0).
+void CheckStudyTarget(double from, double to);
+
 }  // namespace nfrc

@@ -91,6 +91,7 @@ void Follow(const Case& the_case, const CaseParameter& parameter, const EventCur
     }
     if (found) {
       curve->points.push_back(ToPoint(p, peak, solver.solves()));
+      if (options.observer != nullptr) options.observer->OnPoint(index, curve->points.back());
       largest = std::max(largest, peak.measure);
       curve->solves += solver.solves();
       if (options.progress != nullptr) {
@@ -271,6 +272,9 @@ EventCurveResult TraceEventCurves(const Case& the_case, const CaseParameter& par
       curve.start_omega = located.omega;
       curve.points.push_back(ToPoint(result.from, located, solver.solves()));
       curve.solves = solver.solves();
+      if (options.observer != nullptr) {
+        options.observer->OnPoint(static_cast<int>(result.curves.size()), curve.points.back());
+      }
       if (options.progress != nullptr) {
         *options.progress << "nfrc: " << EventName(kind) << " " << result.curves.size()
                           << " at omega=" << located.omega << ": following " << parameter.path()
@@ -345,9 +349,7 @@ const char* ToString(EventCurveEnd end) {
 }
 
 void EventCurveOptions::Validate(double from) const {
-  if (!std::isfinite(to) || to == from) {
-    throw InputError("to: must be finite and differ from the parameter's value in the case");
-  }
+  CheckStudyTarget(from, to);
   if (std::isinf(near) || (!std::isnan(near) && !(near > 0.0))) {
     throw InputError("near: must be a positive frequency");
   }

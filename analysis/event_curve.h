@@ -33,11 +33,14 @@ double EvaluatePeakMeasure(const PeakMeasure& measure, HarmonicSystem& system,
                            PointAnalyzer& analyzer, const Eigen::VectorXd& y, double omega);
 
 struct EventCurve;
+struct EventCurvePoint;
 
-// Receives each curve as soon as it ends (a writer keeps what was found on disk).
+// Receives each point of a curve as it is found and each curve as soon as it ends (a writer
+// keeps what was found on disk). `curve` numbers the curves from 0 in result order.
 class EventCurveObserver {
  public:
   virtual ~EventCurveObserver() = default;
+  virtual void OnPoint(int /*curve*/, const EventCurvePoint& /*point*/) {}
   virtual void OnCurve(const EventCurve& curve) = 0;
 };
 

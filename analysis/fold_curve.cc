@@ -128,12 +128,30 @@ class FoldProblem : public ContinuationProblem {
 };
 
 // Re-borders the problem at every accepted point so that [[R_y, b], [cᵀ, 0]] stays well
-// conditioned however far the curve goes; g = 0 marks the same folds with any regular border.
+// conditioned however far the curve goes (g = 0 marks the same folds with any regular border),
+// and records the point with its measures in `curve`, passing it on to the observer.
 class Rebaser : public ContinuationObserver {
  public:
-  Rebaser(FoldProblem& problem, StopCheck& check) : problem_(problem), check_(check) {}
+  Rebaser(FoldProblem& problem, StopCheck& check, const Case& the_case, int index,
+          FoldCurveObserver* observer, FoldCurve* curve)
+      : problem_(problem),
+        check_(check),
+        the_case_(the_case),
+        index_(index),
+        observer_(observer),
+        curve_(curve) {}
   bool OnPoint(const BranchPoint& point, int /*index*/) override {
     const int n = static_cast<int>(point.y.size()) - 1;
+    FoldCurvePoint& out = curve_->points.emplace_back();
+    out.parameter = point.lambda;
+    out.omega = point.y(n);
+    out.y = point.y.head(n);
+    out.newton_iterations = point.newton_iterations;
+    PointAnalyzer analyzer(problem_.System(point.lambda), the_case_.output_dofs);
+    const PointMeasures measures = analyzer.Measure(out.y, out.omega);
+    out.max_abs = measures.max_abs;
+    out.energy = measures.energy;
+    if (observer_ != nullptr) observer_->OnPoint(index_, out);
     problem_.Rebase(point.y.head(n), point.y(n), point.lambda);
     return check_.Continue();
   }
@@ -141,6 +159,10 @@ class Rebaser : public ContinuationObserver {
  private:
   FoldProblem& problem_;
   StopCheck& check_;
+  const Case& the_case_;
+  int index_;
+  FoldCurveObserver* observer_;
+  FoldCurve* curve_;
 };
 
 bool OnCurve(const FoldCurve& curve, double p, double omega, double p_scale) {
@@ -151,7 +173,7 @@ bool OnCurve(const FoldCurve& curve, double p, double omega, double p_scale) {
 }
 
 FoldCurve FollowFold(const Case& the_case, const CaseParameter& parameter,
-                     const FoldCurveOptions& options, double from, const Fold& fold,
+                     const FoldCurveOptions& options, double from, const Fold& fold, int index,
                      StopCheck& check) {
   const double p_scale = std::max({std::abs(from), std::abs(options.to), 1e-300});
   FoldProblem problem(the_case, parameter, p_scale);
@@ -172,25 +194,14 @@ FoldCurve FollowFold(const Case& the_case, const CaseParameter& parameter,
   continuation.max_points = options.max_points;
   continuation.plot_tolerance = 0.0;  // the curve is (p, ω): the tangent's turn sizes steps
   continuation.progress = options.progress;
+  continuation.stop = options.stop;
   continuation.lambda_name = parameter.path();
   Eigen::VectorXd start(fold.y.size() + 1);
   start << fold.y, fold.lambda;
-  Rebaser rebaser(problem, check);
+  Rebaser rebaser(problem, check, the_case, index, options.observer, &curve);
   const Branch branch = Continue(problem, start, continuation, &rebaser);
   curve.summary = branch.summary;
   const int n = static_cast<int>(fold.y.size());
-  for (const BranchPoint& point : branch.points) {
-    FoldCurvePoint& out = curve.points.emplace_back();
-    out.parameter = point.lambda;
-    out.omega = point.y(n);
-    out.y = point.y.head(n);
-    out.newton_iterations = point.newton_iterations;
-    HarmonicSystem& system = problem.System(point.lambda);
-    PointAnalyzer analyzer(system, the_case.output_dofs);
-    const PointMeasures measures = analyzer.Measure(out.y, out.omega);
-    out.max_abs = measures.max_abs;
-    out.energy = measures.energy;
-  }
   for (const Fold& turn : branch.folds) {
     FoldCurveTurn& out = curve.turns.emplace_back();
     out.parameter = turn.lambda;
@@ -208,9 +219,7 @@ FoldCurve FollowFold(const Case& the_case, const CaseParameter& parameter,
 }  // namespace
 
 void FoldCurveOptions::Validate(double from) const {
-  if (!std::isfinite(to) || to == from) {
-    throw InputError("to: must be finite and differ from the parameter's value in the case");
-  }
+  CheckStudyTarget(from, to);
   if (!(initial_step > 0.0) || !std::isfinite(initial_step)) {
     throw InputError("initial_step: must be positive");
   }
@@ -263,7 +272,8 @@ FoldCurveResult TraceFoldCurves(const Case& the_case, const CaseParameter& param
                         << parameter.path() << " from " << result.from << " to " << options.to
                         << "\n";
     }
-    FoldCurve curve = FollowFold(the_case, parameter, options, result.from, fold, check);
+    FoldCurve curve = FollowFold(the_case, parameter, options, result.from, fold,
+                                 static_cast<int>(result.curves.size()), check);
     curve.start_fold = static_cast<int>(i);
     result.curves.push_back(std::move(curve));
     if (options.observer != nullptr) options.observer->OnCurve(result.curves.back());

@@ -16,10 +16,14 @@ namespace nfrc {
 
 struct FoldCurve;
 
-// Receives each fold curve as soon as it ends (a writer keeps what was found on disk).
+struct FoldCurvePoint;
+
+// Receives each point of a fold curve as it is found and each curve as soon as it ends (a
+// writer keeps what was found on disk). `curve` numbers the curves from 0 in result order.
 class FoldCurveObserver {
  public:
   virtual ~FoldCurveObserver() = default;
+  virtual void OnPoint(int /*curve*/, const FoldCurvePoint& /*point*/) {}
   virtual void OnCurve(const FoldCurve& curve) = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/errors.h"
@@ -54,8 +55,12 @@ const LcpHbm::Problem& LcpHbm::Assemble(double omega) {
 
   Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
   if (!lu.isInvertible()) {
-    throw std::runtime_error("LCP-HBM: the condensed dynamic stiffness is singular at omega = " +
-                             std::to_string(omega));
+    std::ostringstream message;
+    message.precision(8);
+    message << "LCP-HBM: the condensed dynamic stiffness is singular at omega = " << omega
+            << " (an undamped resonance there, or a frequency so far from the model's that its "
+               "matrices no longer resolve it)";
+    throw InputError(message.str());
   }
   x_linear_ = lu.solve(b);
   // Right-hand sides n_d S_dᵀ P, one block of N_t columns per contact.

@@ -1,9 +1,12 @@
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ostream>
+#include <string>
 
 #include "analysis/lcp_hbm.h"
 #include "analysis/trace.h"
+#include "core/errors.h"
 
 namespace nfrc {
 namespace {
@@ -73,7 +76,20 @@ TraceResult StepLcp(const Case& the_case, const TraceOptions& options) {
       break;
     }
     StepRecord record;
-    LcpHbm::Solution cold = lcp.Solve(omega);
+    LemkeOptions cold_options;
+    cold_options.stop = stop;
+    LcpHbm::Solution cold;
+    try {
+      cold = lcp.Solve(omega, cold_options);
+    } catch (const InputError& error) {
+      // The frequency comes from the case's range: name the end it lies nearer to.
+      const ContinuationOptions& range = the_case.continuation;
+      const bool near_start =
+          std::abs(omega - range.lambda_start) <= std::abs(omega - range.lambda_end);
+      throw InputError(std::string("continuation.") + (near_start ? "omega_start" : "omega_end") +
+                       ": " + error.what());
+    }
+    if (cold.lemke.status == LemkeStatus::kInterrupted) continue;  // ended at the loop's top
     record.newton_iterations = cold.lemke.pivots;
     if (!cold.lemke.ok()) {
       ++failures;
@@ -92,6 +108,7 @@ TraceResult StepLcp(const Case& the_case, const TraceOptions& options) {
     } else if (the_case.stepping.track_contact && !contact_basis.empty()) {
       LemkeOptions options;
       options.warm_basis = contact_basis;
+      options.stop = stop;
       warm = lcp.Solve(omega, options);
       if (warm->lemke.ok() && HasContact(*warm)) {
         contact_basis = warm->lemke.basic_z;

@@ -77,6 +77,7 @@ std::optional<FixedLambdaSolution> TraceToOmega(const Case& the_case, double ome
   if (run.branch != nullptr) run.branch->OnStart(branch.num_unknowns);
   ContinuationOptions options = the_case.continuation;
   options.progress = run.progress;
+  options.stop = run.stop;
   const Eigen::VectorXd guess = StartingGuess(the_case, *system, run.progress, run.stop);
   StopAtOmega observer(*system, the_case, options, omega, run, &branch);
   branch.branch = Trace(*system, options, &observer, &guess, the_case.Plot());
@@ -188,6 +189,11 @@ RefinementResult RefineEpsilon(const Case& the_case, const RefinementOptions& op
     y = step.signals.y;
   }
   return result;
+}
+
+bool RefinementResult::Complete(const RefinementOptions& options) const {
+  return !interrupted && steps.size() == options.epsilons.size() &&
+         (steps.empty() || steps.back().converged);
 }
 
 }  // namespace nfrc

@@ -50,6 +50,9 @@ struct RefinementResult {
   // Why steps are missing: no solution at ω, or an interrupt; empty otherwise.
   std::string message;
   bool interrupted = false;  // the stop flag was raised
+
+  // Every ε of `options` solved, the last converged, and not interrupted.
+  bool Complete(const RefinementOptions& options) const;
 };
 
 // Receives a refinement's results as they are found (a writer). Called on the refining thread.

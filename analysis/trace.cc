@@ -196,7 +196,8 @@ std::optional<Eigen::VectorXd> StiffnessHomotopy(const Case& the_case, HarmonicS
     if (notes != nullptr) notes->push_back("start: " + text);
   };
   auto stopped = [&] { return stop != nullptr && stop->load(); };
-  const ContinuationOptions& options = the_case.continuation;
+  ContinuationOptions options = the_case.continuation;
+  options.stop = stop;
   const double omega = options.lambda_start;
   // Solves the case with its stiffnesses times `scale` from `guess` (the linear guess if null):
   // damped, then undamped (semismooth Newton's local convergence where the line search stalls).
@@ -309,7 +310,8 @@ Branch Trace(HarmonicSystem& system, const ContinuationOptions& options,
 
 Eigen::VectorXd StartingGuess(const Case& the_case, HarmonicSystem& system, std::ostream* progress,
                               const std::atomic<bool>* stop, std::vector<std::string>* notes) {
-  const ContinuationOptions& options = the_case.continuation;
+  ContinuationOptions options = the_case.continuation;
+  options.stop = stop;
   const double omega = options.lambda_start;
   const Eigen::VectorXd linear = system.InitialGuess(omega);
   if (stop != nullptr && stop->load()) return linear;
@@ -398,10 +400,10 @@ void TraceOptions::Validate() const {
   }
 }
 
-TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
-  the_case.Validate();
-  options.Validate();
-  if (the_case.method == Method::kLemkeStepping) return StepLcp(the_case, options);
+namespace {
+
+// TraceCase for the arclength method.
+TraceResult TraceArclength(const Case& the_case, const TraceOptions& options) {
   std::unique_ptr<HarmonicSystem> system = BuildSystem(the_case);
   TraceResult result;
   result.num_unknowns = system->NumUnknowns();
@@ -409,6 +411,7 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
   TraceRecorder recorder(the_case, *system, options, &result);
   ContinuationOptions continuation = the_case.continuation;
   continuation.progress = options.progress;
+  continuation.stop = options.stop;
   if (options.progress != nullptr) {
     *options.progress << "nfrc: " << system->NumUnknowns() << " unknowns ("
                       << the_case.harmonics.num_harmonics() << " harmonics, "
@@ -433,6 +436,25 @@ TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
   if (options.stop != nullptr && options.stop->load()) {
     result.branch.summary.message += " (interrupted by a signal)";
   }
+  return result;
+}
+
+}  // namespace
+
+TraceResult TraceCase(const Case& the_case, const TraceOptions& options) {
+  the_case.Validate();
+  options.Validate();
+  const ModelCheck model_check = options.model_check != nullptr
+                                     ? *options.model_check
+                                     : CheckLinearModel(the_case.model.model);
+  for (const std::string& warning : model_check.warnings) {
+    if (options.progress != nullptr) *options.progress << "nfrc: warning: " << warning << "\n";
+  }
+  TraceResult result = the_case.method == Method::kLemkeStepping
+                           ? StepLcp(the_case, options)
+                           : TraceArclength(the_case, options);
+  std::vector<std::string>& notes = result.branch.summary.notes;
+  notes.insert(notes.begin(), model_check.warnings.begin(), model_check.warnings.end());
   return result;
 }
 

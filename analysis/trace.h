@@ -15,6 +15,7 @@
 #include "analysis/stability.h"
 #include "continuation/continuation.h"
 #include "core/lemke.h"
+#include "models/model_check.h"
 
 namespace nfrc {
 
@@ -100,6 +101,10 @@ struct TraceOptions {
   // waits for them (analysis/stability_pipeline.h): -1 (default) one per further hardware thread,
   // 0 none. The results are the same, bit for bit, whatever the count.
   int threads = -1;
+  // The linear model's check (CheckLinearModel), where the caller made it before writing
+  // anything (a model it refuses leaves no files); null: TraceCase makes it. Its warnings
+  // go to the progress stream and the summary's notes.
+  const ModelCheck* model_check = nullptr;
   // Throws InputError("threads: ...") for a count outside [-1, kMaxThreads].
   void Validate() const;
 };

@@ -269,11 +269,17 @@ bool Complete(const ValidationResult& result) {
   for (const ValidationPoint& point : result.points) {
     if (point.solutions.empty()) return false;
     for (const TransientRun& run : point.transients) {
-      if (run.result.status == TransientStatus::kFailed) return false;
+      if (run.result.status == TransientStatus::kFailed ||
+          run.result.status == TransientStatus::kInterrupted) {
+        return false;
+      }
     }
   }
   for (const ChirpRun& run : result.chirps) {
-    if (run.result.status == TransientStatus::kFailed) return false;
+    if (run.result.status == TransientStatus::kFailed ||
+        run.result.status == TransientStatus::kInterrupted) {
+      return false;
+    }
   }
   return true;
 }
@@ -292,6 +298,7 @@ ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& se
   TransientModel transient_model = MakeTransientModel(the_case.model, the_case.laws);
   const std::unique_ptr<TransientIntegrator> integrator =
       MakeTransientIntegrator(transient_model, settings.transient);
+  integrator->set_stop(options.stop);
   const int n = settings.transient.samples_per_period;
   const int h = the_case.harmonics.max_harmonic();
   if (n < 2 * h + 1) {
@@ -334,7 +341,9 @@ ValidationResult ValidateCase(const Case& the_case, const ValidationSettings& se
   if (settings.chirp.enabled && !(options.stop != nullptr && options.stop->load())) {
     RunChirps(the_case, settings.chirp, *integrator, options, &result.chirps);
   }
-  result.complete = Complete(result);
+  result.interrupted = options.stop != nullptr && options.stop->load();
+  result.complete = Complete(result) && !result.interrupted;
+  if (options.observer != nullptr) options.observer->OnEnd(result);
   return result;
 }
 

@@ -96,8 +96,9 @@ struct ValidationResult {
   std::vector<ValidationPoint> points;  // per requested ω, up to a stop
   std::vector<ChirpRun> chirps;
   // Every point had an HBM solution and no transient or chirp failed (not periodic is no
-  // failure): what `nfrc validate` turns into its exit status.
+  // failure), and no stop came: what `nfrc validate` turns into its exit status.
   bool complete = false;
+  bool interrupted = false;  // the stop flag ended it early
 };
 
 // Receives a validation's results as they are found (a writer). Called on the validating
@@ -116,12 +117,15 @@ class ValidationObserver {
   // After every ω, also one cut short by a stop.
   virtual void OnPoint(const ValidationPoint& /*point*/) {}
   virtual void OnChirp(const ChirpRun& /*chirp*/) {}
+  // The whole result, complete or not (a writer records its status).
+  virtual void OnEnd(const ValidationResult& /*result*/) {}
 };
 
 // Where ValidateCase reports to and what stops it.
 struct ValidationOptions {
-  std::ostream* progress = nullptr;         // progress lines; null = quiet
-  const std::atomic<bool>* stop = nullptr;  // polled after every branch point and run
+  std::ostream* progress = nullptr;  // progress lines; null = quiet
+  // Polled after every branch point and run, and by the integrators at every period.
+  const std::atomic<bool>* stop = nullptr;
   ValidationObserver* observer = nullptr;
 };
 

@@ -131,6 +131,7 @@ class Continuer {
     settings_.update_tolerance = options.newton_tolerance;
     settings_.residual_tolerance = options.residual_tolerance;
     settings_.line_search = options.line_search;
+    settings_.stop = options.stop;
   }
 
   Branch Run(const Eigen::VectorXd& y_guess) {
@@ -170,6 +171,7 @@ class Continuer {
 
  private:
   int n() const { return evaluator_.num_unknowns(); }
+  bool Stopped() const { return options_.stop != nullptr && options_.stop->load(); }
 
   void Finish(TerminationReason reason, std::string message) {
     if (finished_) return;
@@ -219,6 +221,10 @@ class Continuer {
         start.failure += "; undamped: " + retry.failure;
       }
     }
+    if (!start.converged && Stopped()) {
+      Finish(TerminationReason::kStoppedByObserver, "interrupted before the first point");
+      return false;
+    }
     if (!start.converged) {
       Finish(TerminationReason::kStartFailed,
              "Newton at " + Describe(options_.lambda_name, lambda) + " from y_guess failed: " +
@@ -252,6 +258,12 @@ class Continuer {
     double step = options_.initial_step;
     const long max_attempts = static_cast<long>(kMaxAttemptsPerPoint) * options_.max_points;
     for (long attempts = 0; !finished_; ++attempts) {
+      if (Stopped()) {
+        Finish(TerminationReason::kStoppedByObserver,
+               "interrupted after point " + std::to_string(branch_.points.size() - 1) + " (" +
+                   Describe(options_.lambda_name, u_(n())) + ")");
+        return;
+      }
       if (attempts >= max_attempts) {
         Finish(TerminationReason::kStalled, "gave up after " + std::to_string(attempts) +
                                                 " step attempts at " +

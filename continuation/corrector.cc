@@ -115,6 +115,9 @@ CorrectorResult Correct(Evaluator& evaluator, const Scaling& scaling,
   merits.reserve(static_cast<size_t>(settings.max_iterations) + 1);
   int damped_run = 0;  // iterations in a row whose step the line search cut
   for (int iteration = 1; iteration <= settings.max_iterations; ++iteration) {
+    if (settings.stop != nullptr && settings.stop->load()) {
+      return Fail(std::move(result), kInterrupted);
+    }
     Eigen::VectorXd rhs(n + 1);
     rhs.head(n) = -result.linearization.residual / r;
     rhs(n) = -constraint_residual(result.u);

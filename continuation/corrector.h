@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -16,7 +17,12 @@ struct NewtonSettings {
   double residual_tolerance = 1e-8;  // on ‖R‖ / residual_scale
   double residual_scale = 1.0;       // r: the size of R that counts as "large"
   bool line_search = true;           // backtracking on the scaled merit
+  // Raised: the correction fails at once ("interrupted") before its next iteration.
+  const std::atomic<bool>* stop = nullptr;
 };
+
+// The failure message of a correction the stop flag ended.
+inline constexpr const char* kInterrupted = "interrupted";
 
 struct CorrectorResult {
   bool converged = false;

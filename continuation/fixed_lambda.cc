@@ -36,6 +36,7 @@ SolveSetup MakeSetup(ContinuationProblem& problem, Evaluator& evaluator,
   settings.update_tolerance = options.newton_tolerance;
   settings.residual_tolerance = options.residual_tolerance;
   settings.line_search = options.line_search;
+  settings.stop = options.stop;
   Eigen::VectorXd residual;
   settings.residual_scale = 1.0;
   if (evaluator.Residual(Eigen::VectorXd::Zero(y_guess.size()), options.lambda_start, &residual) &&

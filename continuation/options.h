@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <iosfwd>
 #include <limits>
 #include <string>
@@ -48,6 +49,10 @@ struct ContinuationOptions {
   double lambda_scale = 0.0;
   // Floor of an unknown group's scale relative to the largest group scale seen so far.
   double scale_floor = 1e-6;
+
+  // Raised (a signal handler's flag): the run ends at once, within a Newton iteration, with
+  // the points found so far (TerminationReason::kStoppedByObserver). Null: never.
+  const std::atomic<bool>* stop = nullptr;
 
   // Progress lines on this stream (point count, λ, step, Newton iterations); null = quiet.
   std::ostream* progress = nullptr;

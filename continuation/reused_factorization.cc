@@ -1,6 +1,7 @@
 #include "continuation/reused_factorization.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "continuation/bordered_view.h"
 
@@ -36,11 +37,14 @@ bool ReusedFactorization::LowRank(const Eigen::MatrixXd& delta, int max_rank, Ei
     for (int pass = 0; pass < 2 && q->cols() > 0; ++pass) y -= *q * (q->transpose() * y);
     const double largest = y.colwise().norm().maxCoeff();
     if (largest <= tolerance) break;
+    // Overflowed entries (a law's parameter far outside its range) give no basis: a new LU.
+    if (!std::isfinite(largest)) return false;
     // Directions whose pivot is below the tolerance are rounding: not kept.
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(y);
     qr.setThreshold(tolerance / largest);
     const Eigen::Index rank = qr.rank();
-    if (q->cols() + rank > max_rank) return false;
+    // Each round adds a direction or ends: the loop is bounded by max_rank rounds.
+    if (rank == 0 || q->cols() + rank > max_rank) return false;
     const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n, rank);
     q->conservativeResize(n, q->cols() + rank);
     q->rightCols(rank) = basis;

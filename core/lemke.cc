@@ -123,6 +123,9 @@ class LemkeSolver {
         return Finish(LemkeStatus::kSolution, prefix + "solution: z0 left the basis");
       }
       const int entering = leaving < n_ ? leaving + n_ : leaving - n_;
+      if (options_.stop != nullptr && options_.stop->load()) {
+        return Finish(LemkeStatus::kInterrupted, prefix + "interrupted");
+      }
       if (result_.pivots >= max_pivots_) {
         return Finish(LemkeStatus::kPivotLimit,
                       prefix + "pivot limit " + std::to_string(max_pivots_) + " reached");
@@ -490,6 +493,8 @@ std::string ToString(LemkeStatus status) {
       return "pivot limit";
     case LemkeStatus::kSingularBasis:
       return "singular basis";
+    case LemkeStatus::kInterrupted:
+      return "interrupted";
   }
   return "unknown";
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct LemkeOptions {
   // What counts as ≥ 0 for q / the basic variables, relative to ‖q‖∞; also the width of the
   // ties in the ratio test, which the lexicographic rule then breaks.
   double feasibility_tolerance = 1e-10;
+  // Raised (a signal handler's flag): Lemke ends before its next pivot (kInterrupted).
+  const std::atomic<bool>* stop = nullptr;
 
   // Throws std::invalid_argument naming the field ("covering", "warm_basis", "max_pivots",
   // "pivot_tolerance", "feasibility_tolerance") for a wrong size, a non-positive or non-finite
@@ -37,9 +40,10 @@ enum class LemkeStatus {
                     // solution (none exists if M is positive semidefinite or copositive-plus)
   kPivotLimit,      // max_pivots reached
   kSingularBasis,   // the final basis could not be refactorised; numerical failure
+  kInterrupted,     // LemkeOptions::stop was raised
 };
 
-// "solution", "ray termination", "pivot limit" or "singular basis".
+// "solution", "ray termination", "pivot limit", "singular basis" or "interrupted".
 std::string ToString(LemkeStatus status);
 
 struct LemkeResult {

@@ -3,6 +3,7 @@
 #include <klu.h>
 #include <umfpack.h>
 
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -29,6 +30,15 @@ constexpr double kRefactorGrowthRatio = 0.1;
 // beyond, UMFPACK's dense fronts gain most from an optimised BLAS.
 constexpr double kKluMaxFlopsPerDof = 1e4;
 
+// A ratio for a message: "%.3g", and "not a number" where the matrix held overflowed entries
+// (printf's "-nan" says nothing to a user).
+std::string Ratio(double value) {
+  if (std::isnan(value)) return "not a number: the matrix has overflowed entries";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
+
 [[noreturn]] void ThrowSingular(int harmonic, double omega, const std::string& detail) {
   char omega_text[32];
   std::snprintf(omega_text, sizeof(omega_text), "%.17g", omega);
@@ -48,11 +58,11 @@ class DenseFactorization final : public LuFactorization {
     const Eigen::VectorXd pivots = lu_.matrixLU().diagonal().cwiseAbs();
     const double pivot_ratio = pivots.minCoeff() / pivots.maxCoeff();
     if (!(pivot_ratio >= kSingularRcond)) {
-      ThrowSingular(harmonic, omega, "pivot ratio " + std::to_string(pivot_ratio));
+      ThrowSingular(harmonic, omega, "pivot ratio " + Ratio(pivot_ratio));
     }
     const double rcond = lu_.rcond();
     if (!(rcond >= kSingularRcond)) {
-      ThrowSingular(harmonic, omega, "rcond estimate " + std::to_string(rcond));
+      ThrowSingular(harmonic, omega, "rcond estimate " + Ratio(rcond));
     }
   }
 
@@ -82,7 +92,7 @@ class KluFactorization final : public LuFactorization {
     if (!(common_.rcond >= kSingularRcond)) {
       const double rcond = common_.rcond;
       klu_zl_free_numeric(&numeric_, &common_);
-      ThrowSingular(harmonic, omega, "pivot ratio " + std::to_string(rcond));
+      ThrowSingular(harmonic, omega, "pivot ratio " + Ratio(rcond));
     }
     klu_zl_rgrowth(ColStart(), RowIndex(), Values(values), symbolic_, numeric_, &common_);
     fresh_rgrowth_ = common_.rgrowth;
@@ -151,7 +161,7 @@ class UmfpackFactorization final : public LuFactorization {
       throw std::runtime_error("Condensation: umfpack_zl_numeric failed with status " +
                                std::to_string(status));
     }
-    ThrowSingular(harmonic, omega, "pivot ratio " + std::to_string(pivot_ratio));
+    ThrowSingular(harmonic, omega, "pivot ratio " + Ratio(pivot_ratio));
   }
 
   ~UmfpackFactorization() override {

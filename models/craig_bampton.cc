@@ -42,8 +42,11 @@ class CholmodShiftInvert {
 
   CholmodShiftInvert(const SparseMatrix& a, const SparseMatrix& b, double sigma)
       : sigma_(sigma), n_(a.rows()), factor_(std::make_unique<Cholesky>()) {
-    // Failures are reported by the exception below, not by CHOLMOD printing on stdout.
+    // Failures are reported by the exception below, not by CHOLMOD printing on stdout. LLᵀ:
+    // it fails where the matrix is not positive definite (the automatic mode may pick a
+    // simplicial LDLᵀ that factorises an indefinite one without a word).
     factor_->cholmod().print = 0;
+    factor_->setMode(Eigen::CholmodSupernodalLLt);
     const SparseMatrix shifted = sigma == 0.0 ? a : SparseMatrix(a - sigma * b);
     factor_->compute(shifted);
     if (factor_->info() != Eigen::Success) {
@@ -192,6 +195,12 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
   }
   const int nb = static_cast<int>(boundary.size());
   const int ni = static_cast<int>(interior.size());
+  // Nothing to reduce: CHOLMOD would be handed an empty K_ii.
+  if (ni == 0) {
+    throw std::invalid_argument("boundary: every one of the model's " + std::to_string(n) +
+                                " DOFs is a boundary DOF (a law's, a forced or an output DOF): "
+                                "there is no interior to reduce (remove the reduction)");
+  }
   if (options.modes > ni) {
     throw std::invalid_argument("modes: " + std::to_string(options.modes) +
                                 " fixed-interface modes asked, the interior has " +
@@ -230,6 +239,21 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
   SparseMatrix k_ii, m_ii, k_ib;
   split(full.stiffness, &k_ii, &k_ib);
   split(full.mass, &m_ii, nullptr);
+  // The fixed-interface modes are those of (K_ii, M_ii): M_ii must be positive definite, or
+  // the eigensolvers return modes of a pencil that has no physical meaning.
+  {
+    Cholesky mass_factor;
+    mass_factor.cholmod().print = 0;
+    // LLᵀ, which fails on a matrix that is not positive definite (CHOLMOD's automatic mode may
+    // pick a simplicial LDLᵀ that factorises an indefinite one).
+    mass_factor.setMode(Eigen::CholmodSupernodalLLt);
+    mass_factor.compute(m_ii);
+    if (mass_factor.info() != Eigen::Success) {
+      throw std::runtime_error(
+          "the interior mass M_ii is not positive definite (a negative or zero mass among the "
+          "interior DOFs): the fixed-interface modes need a positive definite mass");
+    }
+  }
 
   CraigBamptonModel result;
   ReductionReport& report = result.report;
@@ -319,7 +343,16 @@ CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<
   // The check: lowest eigenfrequencies of the reduced model against the full model's. The full
   // model may be free (K singular), so its shift is below zero, at 1 % of the reduced model's
   // lowest positive eigenvalue (an upper bound of the full one's, Rayleigh–Ritz).
-  const int checks = std::min({options.check_frequencies, r, n});
+  // An explicit count above the reduced size would compare frequencies the reduced model does
+  // not have; the default is clipped to it.
+  if (options.check_frequencies > r) {
+    throw std::invalid_argument("check_frequencies: " + std::to_string(options.check_frequencies) +
+                                " asked, the reduced model has " + std::to_string(r) + " DOFs (" +
+                                std::to_string(nb) + " boundary + " + std::to_string(m) +
+                                " modes)");
+  }
+  const int checks = options.check_frequencies >= 0 ? options.check_frequencies
+                                                    : std::min({kDefaultCheckFrequencies, r, n});
   if (checks > 0) {
     const auto check_start = std::chrono::steady_clock::now();
     const Eigen::VectorXd reduced_frequencies =

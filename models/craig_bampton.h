@@ -29,10 +29,15 @@ inline constexpr double kBandFactor = 2.0;
 // Most fixed-interface modes kept (the reduced model is dense).
 inline constexpr int kMaxReductionModes = 500;
 
+// Eigenfrequencies compared by default between the full and the reduced model.
+inline constexpr int kDefaultCheckFrequencies = 5;
+
 struct CraigBamptonOptions {
   int modes = -1;              // fixed-interface modes kept; −1: from max_frequency
   double max_frequency = 0.0;  // rad/s; used when modes < 0
-  int check_frequencies = 5;   // eigenfrequencies compared between full and reduced (0: none)
+  // Eigenfrequencies compared between full and reduced (0: none; at most the reduced size);
+  // −1: kDefaultCheckFrequencies, or the reduced size if smaller.
+  int check_frequencies = -1;
   bool keep_recovery = false;  // keep T (N × (n_b + m)) for full-field recovery
 };
 
@@ -64,9 +69,9 @@ struct CraigBamptonModel {
   ReductionReport report;
 };
 
-// Throws std::invalid_argument naming the problem ("boundary", "modes", "max_frequency") for
-// bad arguments, and std::runtime_error if K_ii is not positive definite or an eigensolve
-// does not converge.
+// Throws std::invalid_argument naming the problem ("boundary", "modes", "max_frequency",
+// "check_frequencies") for bad arguments (no interior DOF among them), and std::runtime_error
+// if K_ii or M_ii is not positive definite or an eigensolve does not converge.
 CraigBamptonModel ReduceCraigBampton(const LinearModel& full, const std::vector<int>& boundary,
                                      const CraigBamptonOptions& options);
 

@@ -1,8 +1,11 @@
 #include "nonlinearities/law_spec.h"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "core/errors.h"
 
@@ -48,7 +51,90 @@ void CheckLagrangian(const LagrangianContactSpec& contact, const LinearModel& mo
   }
 }
 
+// The largest |diagonal entry| of `matrix` over `dofs`, else over every DOF; 0 if none.
+double DiagonalScale(const Eigen::SparseMatrix<double>& matrix, const std::vector<int>& dofs) {
+  double scale = 0.0;
+  for (int dof : dofs) scale = std::max(scale, std::abs(matrix.coeff(dof, dof)));
+  if (scale > 0.0) return scale;
+  for (int dof = 0; dof < matrix.rows(); ++dof) {
+    scale = std::max(scale, std::abs(matrix.coeff(dof, dof)));
+  }
+  return scale;
+}
+
+std::string Text(double value) {
+  std::ostringstream text;
+  text.precision(3);
+  text << value;
+  return text.str();
+}
+
+// The slip force μN must be a number: μ and N each finite can overflow together.
+void CheckSlipForce(double mu, double normal_load) {
+  if (!std::isfinite(mu * normal_load)) {
+    Fail("normal_load", "mu * normal_load overflows (mu " + Text(mu) + ")");
+  }
+}
+
+// InputError naming `field` unless `value` is 0 (a default) or lies within
+// kUsefulParameterRatio either way of `reference` (skipped where the reference is 0).
+void CheckScale(const char* field, double value, double reference, const char* unit,
+                const char* what) {
+  if (value == 0.0 || !(reference > 0.0)) return;
+  const double low = reference / kUsefulParameterRatio;
+  const double high = reference * kUsefulParameterRatio;
+  if (value < low || value > high) {
+    Fail(field,
+         Text(value) + " " + unit + " lies outside its useful range [" + Text(low) + ", " +
+             Text(high) + "] " + unit + ", " + Text(kUsefulParameterRatio) +
+             " times either way of " + what + " (" + Text(reference) +
+             "): beyond it the "
+             "law's terms swamp the structure's, or vanish against them, in double precision");
+  }
+}
+
 }  // namespace
+
+void CheckLawRanges(const LawSpec& spec, const LinearModel& model) {
+  const std::vector<int> dofs = LawDofs(spec);
+  const double stiffness = DiagonalScale(model.stiffness, dofs);
+  const double mass = DiagonalScale(model.mass, dofs);
+  constexpr const char* kStiffness = "the model's stiffness at the law's DOFs";
+  auto stiff = [&](const char* field, double value) {
+    CheckScale(field, value, stiffness, "N/m", kStiffness);
+  };
+  // ρ of a friction equality (velocity per force): 1/√(k m), the admittance of the DOF.
+  auto admittance = [&](const char* field, double value) {
+    if (!(mass > 0.0) || !(stiffness > 0.0)) return;
+    CheckScale(field, value, 1.0 / std::sqrt(stiffness * mass), "(m/s)/N",
+               "1/sqrt(k m) at the law's DOFs");
+  };
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, JenkinsSpec> || std::is_same_v<T, PenaltyContactSpec>) {
+          stiff("stiffness", s.stiffness);
+        } else if constexpr (std::is_same_v<T, DlftFrictionSpec>) {
+          stiff("epsilon", s.epsilon);
+        } else if constexpr (std::is_same_v<T, DlftContactSpec> ||
+                             std::is_same_v<T, LcpContactSpec>) {
+          stiff("epsilon", s.contact.epsilon);
+          stiff("obstacle_stiffness", s.contact.obstacle_stiffness);
+        } else if constexpr (std::is_same_v<T, EqualityContactSpec>) {
+          stiff("rho", s.rho);
+          stiff("obstacle_stiffness", s.obstacle_stiffness);
+        } else if constexpr (std::is_same_v<T, ContactFrictionSpec>) {
+          stiff("rho", s.rho);
+          stiff("obstacle_stiffness", s.obstacle_stiffness);
+          admittance("friction_rho", s.friction_rho);
+        } else if constexpr (std::is_same_v<T, CoulombFrictionSpec>) {
+          if (s.law == FrictionEquality::kMinMax || s.law == FrictionEquality::kHueber) {
+            admittance("rho", s.rho);
+          }
+        }
+      },
+      spec);
+}
 
 void CubicSpringSpec::Validate(const LinearModel& model) const {
   CheckDofs(dof, other, model);
@@ -80,6 +166,7 @@ void CoulombFrictionSpec::Validate(const LinearModel& model) const {
   if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
     Fail("normal_load", "must be non-negative");
   }
+  CheckSlipForce(mu, normal_load);
   auto positive = [](const char* key, double value) {
     if (!(value > 0.0) || !std::isfinite(value)) Fail(key, "must be positive");
   };
@@ -106,6 +193,7 @@ void JenkinsSpec::Validate(const LinearModel& model) const {
   if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
     Fail("normal_load", "must be non-negative");
   }
+  CheckSlipForce(mu, normal_load);
   if (!(stiffness > 0.0) || !std::isfinite(stiffness)) {
     Fail("stiffness", "must be finite and > 0 (N/m)");
   }
@@ -158,6 +246,7 @@ void DlftFrictionSpec::Validate(const LinearModel& model) const {
   if (!(normal_load >= 0.0) || !std::isfinite(normal_load)) {
     Fail("normal_load", "must be non-negative");
   }
+  CheckSlipForce(mu, normal_load);
   if (!(epsilon >= 0.0) || !std::isfinite(epsilon)) {
     Fail("epsilon", "must be finite and > 0 (N/m; omit it for the default)");
   }

@@ -177,6 +177,20 @@ void SetLawStiffness(LawSpec& spec, double stiffness);
 // Validate() of the alternative held.
 void ValidateLaw(const LawSpec& spec, const LinearModel& model);
 
+// How far either way of the model's own scale a law's numerical parameter may lie: its
+// stiffness-like ones (N/m: a Jenkins or penalty stiffness, DLFT's ε, the equality laws' ρ,
+// an obstacle's stiffness) against the largest diagonal stiffness at the law's DOFs, a friction
+// equality's ρ (velocity per force) against 1/√(k m) there. 10¹² either way leaves four of
+// double precision's sixteen digits to the smaller term; beyond it the solvers stall, overflow
+// or find no tangent with nothing to name the cause.
+inline constexpr double kUsefulParameterRatio = 1e12;
+
+// Throws InputError naming the field ("rho: 1e+300 N/m lies outside its useful range [...]")
+// where a parameter of a user's law lies outside kUsefulParameterRatio of the model's scale.
+// For what a case states (Case::Validate): the start's stiffness homotopy and the ε
+// refinement go beyond the case's value on purpose and do not pass through it.
+void CheckLawRanges(const LawSpec& spec, const LinearModel& model);
+
 // The harmonic-balance law of a spec (validated first).
 std::unique_ptr<Nonlinearity> MakeHarmonicLaw(const LawSpec& spec, const LinearModel& model);
 

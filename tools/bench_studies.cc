@@ -87,7 +87,7 @@ SweepTiming TimeSweep(const CaseFile& file, const CaseParameter& parameter,
   options.jobs = jobs;
   const auto start = Clock::now();
   SweepTiming timing;
-  timing.runs = RunSweep(file, parameter, values, dir.string(), options);
+  timing.runs = RunSweep(file, parameter, values, dir.string(), options).runs;
   timing.wall = Seconds(start);
   std::filesystem::remove_all(dir);
   return timing;

@@ -310,22 +310,14 @@ void BranchWriter::Finish(const ContinuationSummary& summary) {
 }
 
 void BranchWriter::WriteJsonIfDue() {
-  // Large documents are rewritten less often, so that writing stays a small share of the run;
-  // a fold or bifurcation waits for that spacing only, not for kJsonInterval.
-  const std::chrono::steady_clock::duration spacing = 10 * last_json_duration_;
-  const auto due = unwritten_event_
-                       ? spacing
-                       : std::max<std::chrono::steady_clock::duration>(spacing, kJsonInterval);
-  if (std::chrono::steady_clock::now() - last_json_write_ > due) WriteJson();
+  if (schedule_.Due(unwritten_event_)) WriteJson();
 }
 
 void BranchWriter::WriteJson() {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = RewriteSchedule::Clock::now();
   WriteJsonAtomically(dir_ + "/branch.json", document_);
-  last_json_write_ = std::chrono::steady_clock::now();
-  last_json_duration_ = last_json_write_ - start;
+  schedule_.Wrote(start);
   unwritten_event_ = false;
-  ++json_writes_;
 }
 
 }  // namespace nfrc

@@ -10,14 +10,14 @@
 #include "analysis/case.h"
 #include "analysis/trace.h"
 #include "tools/output_files.h"
+#include "tools/rewrite_schedule.h"
 
 namespace nfrc {
 
 // Streams a traced branch to DIR/branch.csv (a line per point, flushed) and DIR/branch.json
-// (rewritten atomically at most every kJsonInterval, or ten times the last write's duration
-// if longer; at a fold or bifurcation once ten durations have passed, so that a run with many,
-// such as NLvib's 96 over 900 kB, spends about a tenth on them instead of a quarter; and at
-// the end), and each solution's time signals to
+// (rewritten atomically on a RewriteSchedule of kJsonInterval, a fold or bifurcation being
+// urgent, so that a run with many, such as NLvib's 96 over 900 kB, spends about a tenth on
+// them instead of a quarter; and at the end), and each solution's time signals to
 // DIR/signals_<n>.csv (and samples_<n>.csv), so a run that stops part-way leaves every point
 // computed so far on disk. It only writes what the trace computed: it never solves.
 class BranchWriter : public TraceObserver {
@@ -41,7 +41,7 @@ class BranchWriter : public TraceObserver {
 
   const nlohmann::json& document() const { return document_; }
   // How many times branch.json was written (a diagnostic of the write policy).
-  int json_writes() const { return json_writes_; }
+  int json_writes() const { return schedule_.writes(); }
 
  private:
   // Writes branch.json if the policy above says it is due.
@@ -54,10 +54,8 @@ class BranchWriter : public TraceObserver {
   double omega_factor_ = 1.0;
   CsvStream csv_;  // 12 significant digits
   nlohmann::json document_;
-  std::chrono::steady_clock::time_point last_json_write_;
-  std::chrono::steady_clock::duration last_json_duration_{};
+  RewriteSchedule schedule_{kJsonInterval};
   bool unwritten_event_ = false;  // a fold or bifurcation not yet in branch.json
-  int json_writes_ = 0;
   int num_signals_ = 0;
 };
 

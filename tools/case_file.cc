@@ -1,6 +1,7 @@
 #include "tools/case_file.h"
 
 #include <filesystem>
+#include <sstream>
 
 #include "tools/case_manifest.h"
 #include "tools/input_fields.h"
@@ -96,11 +97,7 @@ ContinuationOptions ReadContinuation(const nlohmann::json& spec, Case& result) {
   result.start.homotopy_rungs =
       fields.OptionalInt("start_homotopy_rungs", result.start.homotopy_rungs);
   fields.Finish();
-  try {
-    options.Validate();
-  } catch (const std::invalid_argument& error) {
-    throw InputError(std::string("continuation.") + error.what());
-  }
+  ValidateContinuation(options);
   return options;
 }
 
@@ -158,8 +155,17 @@ Case ParseCase(const nlohmann::json& source, const std::string& base_dir) {
                                                       : std::to_string(dofs[i].get<int>()));
   }
   result.signals_at = output.OptionalNumberList("signals_at");
+  const ContinuationOptions& range = result.continuation;
   for (double omega : result.signals_at) {
     if (!(omega > 0.0)) output.Fail("signals_at", "frequencies must be positive");
+    // No point of the branch crosses a frequency outside the traced range: it would be
+    // dropped without a word.
+    if (omega < range.LowerBound() || omega > range.UpperBound()) {
+      std::ostringstream text;
+      text << omega << " lies outside the traced range [" << range.LowerBound() << ", "
+           << range.UpperBound() << "] (continuation.omega_start, omega_end)";
+      output.Fail("signals_at", text.str());
+    }
   }
   output.Finish();
   if (fields.Has("validation")) {

@@ -19,6 +19,10 @@ struct FieldChange {
 // index within its list); only its last name may be new. Otherwise InputError naming `what`
 // and the path. What the new value means is left to the case reader.
 void ApplyFieldChange(nlohmann::json* source, const FieldChange& change, const std::string& what);
+// Throws as ApplyFieldChange would for `changes` applied in order to `source`, without
+// copying or changing anything; each change is named "<what>: <path>" in messages.
+void CheckFieldChanges(const nlohmann::json& source, const std::vector<FieldChange>& changes,
+                       const std::string& what);
 // A number as a case file writes it: whole numbers as integers (so that integer fields such as
 // harmonics.max accept them), others as doubles.
 nlohmann::json NumberJson(double value);

@@ -18,18 +18,21 @@ EventCurveWriter::EventCurveWriter(std::string path, const std::string& paramete
   document_["case"] = std::move(source);
   document_["points"] = nlohmann::json::array();
   document_["curves"] = nlohmann::json::array();
+  document_["status"] = "running";
   Write();
 }
 
+void EventCurveWriter::OnPoint(int curve, const EventCurvePoint& point) {
+  document_["points"].push_back({{"curve", curve},
+                                 {"parameter", point.parameter},
+                                 {"omega", point.omega},
+                                 {measure_, point.measure},
+                                 {"solves", point.solves}});
+  if (schedule_.Due(false)) Write();
+}
+
 void EventCurveWriter::OnCurve(const EventCurve& curve) {
-  const int index = curves_++;
-  for (const EventCurvePoint& point : curve.points) {
-    document_["points"].push_back({{"curve", index},
-                                   {"parameter", point.parameter},
-                                   {"omega", point.omega},
-                                   {measure_, point.measure},
-                                   {"solves", point.solves}});
-  }
+  ++curves_;
   document_["curves"].push_back({{"start_point", curve.start_point},
                                  {"start_omega", curve.start_omega},
                                  {"termination", ToString(curve.end)},
@@ -40,12 +43,17 @@ void EventCurveWriter::OnCurve(const EventCurve& curve) {
   Write();
 }
 
-void EventCurveWriter::Finish(const EventCurveResult& result) {
+void EventCurveWriter::Finish(const EventCurveResult& result, const std::string& status) {
   document_["branch_events"] = result.branch_events;
   document_["notes"] = result.notes;
+  document_["status"] = status;
   Write();
 }
 
-void EventCurveWriter::Write() { WriteJsonAtomically(path_, document_); }
+void EventCurveWriter::Write() {
+  const auto start = RewriteSchedule::Clock::now();
+  WriteJsonAtomically(path_, document_);
+  schedule_.Wrote(start);
+}
 
 }  // namespace nfrc

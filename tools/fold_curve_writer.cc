@@ -20,22 +20,25 @@ FoldCurveWriter::FoldCurveWriter(std::string dir, const Case& the_case,
   document_["cusps"] = nlohmann::json::array();
   document_["turns"] = nlohmann::json::array();
   document_["curves"] = nlohmann::json::array();
+  document_["status"] = "running";
   Write();
+}
+
+void FoldCurveWriter::OnPoint(int curve, const FoldCurvePoint& point) {
+  nlohmann::json out = {{"curve", curve},
+                        {"parameter", point.parameter},
+                        {"omega", point.omega},
+                        {"energy", point.energy},
+                        {"newton", point.newton_iterations}};
+  for (size_t i = 0; i < point.max_abs.size() && i < output_names_.size(); ++i) {
+    out["max_abs_" + output_names_[i]] = point.max_abs[i];
+  }
+  document_["points"].push_back(std::move(out));
+  if (schedule_.Due(false)) Write();
 }
 
 void FoldCurveWriter::OnCurve(const FoldCurve& curve) {
   const int index = curves_++;
-  for (const FoldCurvePoint& point : curve.points) {
-    nlohmann::json out = {{"curve", index},
-                          {"parameter", point.parameter},
-                          {"omega", point.omega},
-                          {"energy", point.energy},
-                          {"newton", point.newton_iterations}};
-    for (size_t i = 0; i < point.max_abs.size() && i < output_names_.size(); ++i) {
-      out["max_abs_" + output_names_[i]] = point.max_abs[i];
-    }
-    document_["points"].push_back(std::move(out));
-  }
   for (const FoldCurveTurn& turn : curve.turns) {
     const nlohmann::json out = {{"curve", index},
                                 {"parameter", turn.parameter},
@@ -55,12 +58,17 @@ void FoldCurveWriter::OnCurve(const FoldCurve& curve) {
   Write();
 }
 
-void FoldCurveWriter::Finish(const FoldCurveResult& result) {
+void FoldCurveWriter::Finish(const FoldCurveResult& result, const std::string& status) {
   document_["branch_folds"] = result.branch_folds;
   document_["notes"] = result.notes;
+  document_["status"] = status;
   Write();
 }
 
-void FoldCurveWriter::Write() { WriteJsonAtomically(path_, document_); }
+void FoldCurveWriter::Write() {
+  const auto start = RewriteSchedule::Clock::now();
+  WriteJsonAtomically(path_, document_);
+  schedule_.Wrote(start);
+}
 
 }  // namespace nfrc

@@ -216,16 +216,18 @@ std::string FileKind(mode_t mode) {
   return "not a file";
 }
 
-// Throws unless `info` describes a regular file of at most kMaxCaseBytes.
-void CheckCaseFile(const std::string& path, const struct stat& info) {
-  if (S_ISDIR(info.st_mode)) throw InputError(path + ": is a directory, not a case file");
+// Throws unless `info` describes a regular file of at most kind.max_bytes.
+void CheckFile(const std::string& path, const struct stat& info, const JsonFileKind& kind) {
+  if (S_ISDIR(info.st_mode)) {
+    throw InputError(path + ": is a directory, not a " + std::string(kind.name));
+  }
   if (!S_ISREG(info.st_mode)) {
     throw InputError(path + ": not a regular file (" + FileKind(info.st_mode) + ")");
   }
   const auto size = static_cast<std::uintmax_t>(info.st_size);
-  if (size > kMaxCaseBytes) {
+  if (size > kind.max_bytes) {
     throw InputError(path + ": file is " + std::to_string(size) + " bytes, more than the " +
-                     std::to_string(kMaxCaseBytes >> 20) + " MiB accepted for a case file");
+                     std::to_string(kind.max_bytes >> 20) + " MiB accepted for a " + kind.name);
   }
 }
 
@@ -258,26 +260,26 @@ nlohmann::json ParseJsonText(std::string_view text, const std::string& name) {
   return builder.TakeResult();
 }
 
-nlohmann::json ReadJsonFile(const std::string& path) {
+nlohmann::json ReadJsonFile(const std::string& path, const JsonFileKind& kind) {
   // The type is checked by name first so that a FIFO or device is refused without opening
   // it (opening a FIFO can block, a socket cannot be opened), then again on the open
   // descriptor, in case the path changed in between.
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) {
     const int error = errno;
-    throw InputError(path + ": cannot open case file" +
+    throw InputError(path + ": cannot open " + kind.name +
                      (error == ENOENT ? std::string() : " (" + ErrorText(error) + ")"));
   }
-  CheckCaseFile(path, info);
+  CheckFile(path, info, kind);
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
-    throw InputError(path + ": cannot open case file (" + ErrorText(errno) + ")");
+    throw InputError(path + ": cannot open " + kind.name + " (" + ErrorText(errno) + ")");
   }
   const FileDescriptor file(fd);
   if (::fstat(file.get(), &info) != 0) {
     throw InputError(path + ": cannot read (" + ErrorText(errno) + ")");
   }
-  CheckCaseFile(path, info);
+  CheckFile(path, info, kind);
 
   std::string text;
   text.reserve(static_cast<size_t>(info.st_size));
@@ -291,9 +293,9 @@ nlohmann::json ReadJsonFile(const std::string& path) {
     if (count == 0) break;
     text.append(chunk.data(), static_cast<size_t>(count));
     // The file may grow after fstat: the size limit holds for what is actually read.
-    if (text.size() > kMaxCaseBytes) {
-      throw InputError(path + ": file grew past the " + std::to_string(kMaxCaseBytes >> 20) +
-                       " MiB accepted for a case file while being read");
+    if (text.size() > kind.max_bytes) {
+      throw InputError(path + ": file grew past the " + std::to_string(kind.max_bytes >> 20) +
+                       " MiB accepted for a " + kind.name + " while being read");
     }
   }
   return ParseJsonText(text, path);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <sstream>
 
 #include "analysis/case.h"
 #include "models/damping.h"
@@ -100,7 +101,11 @@ Eigen::SparseMatrix<double> ReadDamping(InputFields& fields, const LinearModel& 
   }
   if (damping.Has("modal_ratio")) {
     const double ratio = damping.RequiredNumber("modal_ratio");
-    if (ratio < 0.0) damping.Fail("modal_ratio", "must be non-negative");
+    if (ratio < 0.0 || ratio > kMaxModalRatio) {
+      std::ostringstream text;
+      text << "must lie in [0, " << kMaxModalRatio << "] (1 is critical damping), got " << ratio;
+      damping.Fail("modal_ratio", text.str());
+    }
     if (deferred_modal != nullptr) {
       *deferred_modal = ratio;
     } else {

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <initializer_list>
 #include <iostream>
 #include <new>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "analysis/case_parameter.h"
@@ -95,15 +97,57 @@ CaseAndOut RequireCaseAndOut(const nfrc::CommandLine& line) {
   return {line.positionals()[0], *out};
 }
 
+// A library field the command line sets, and the option that sets it ("to" is --to).
+struct OptionField {
+  std::string_view field;
+  std::string_view option;
+};
+
+// Runs `study` on the case read from `case_path`. An InputError it raises names either a field
+// the command line set (listed in `options`: re-raised naming the option, "to: ..." as
+// "--to: ...") or a field of the case file (re-raised naming the file, unless it already does
+// or names an option).
+template <typename Study>
+auto Naming(const std::string& case_path, std::initializer_list<OptionField> options, Study study) {
+  try {
+    return study();
+  } catch (const nfrc::InputError& error) {
+    const std::string message = error.what();
+    for (const OptionField& named : options) {
+      const std::string field = std::string(named.field) + ":";
+      if (message.rfind(field, 0) == 0) {
+        throw nfrc::InputError(std::string(named.option) + message.substr(named.field.size()));
+      }
+    }
+    if (message.rfind(case_path, 0) == 0 || message.rfind("--", 0) == 0) throw;
+    throw nfrc::InputError(case_path + ": " + message);
+  }
+}
+
+// The lock on --out DIR, refused where DIR is a run folder of a sweep (it holds the run.json
+// the sweep resumes from: writing another run there would replace one the sweep counts as its
+// own).
+nfrc::OutputDirectoryLock LockOutput(const std::string& out_dir) {
+  if (std::filesystem::exists(std::filesystem::path(out_dir) / "run.json")) {
+    throw nfrc::InputError("--out: " + out_dir +
+                           " is a run folder of a sweep (it holds run.json): write elsewhere, or "
+                           "remove it first");
+  }
+  return nfrc::OutputDirectoryLock(out_dir);
+}
+
 int Run(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
   const nfrc::CommandLine line(
       "run", args, {nfrc::OptionSpec::Value("--out"), nfrc::OptionSpec::Value("--threads")});
   const CaseAndOut io = RequireCaseAndOut(line);
   const int threads = line.Int("--threads", -1, nfrc::kMaxThreads).value_or(-1);
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
-  const nfrc::Branch branch = nfrc::RunCase(file.the_case, io.out_dir, &std::cerr, &stop.flag(),
-                                            file.source, nullptr, threads);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
+  stop.set_immediate(false);
+  const nfrc::Branch branch = Naming(io.case_path, {}, [&] {
+    return nfrc::RunCase(file.the_case, io.out_dir, &std::cerr, &stop.flag(), file.source, nullptr,
+                         threads);
+  });
   const auto& summary = branch.summary;
   std::cerr << "nfrc: " << nfrc::ToString(summary.reason) << ": " << summary.message << "\n"
             << "nfrc: " << summary.num_points << " points, " << summary.num_folds
@@ -145,27 +189,20 @@ int Refine(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
     if (!epsilon0) throw line.Error("give --epsilon0 or --epsilons (the case sets no epsilon)");
     options.epsilons = nfrc::GeometricEpsilons(*epsilon0, factor, steps);
   }
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
+  stop.set_immediate(false);
   const nfrc::RefinementResult result =
-      nfrc::RunRefinement(the_case, options, io.out_dir, &std::cerr, &stop.flag(), file.source);
+      Naming(io.case_path,
+             {{"omega", "--omega"}, {"epsilons", "--epsilons"}, {"factor", "--factor"}}, [&] {
+               return nfrc::RunRefinement(the_case, options, io.out_dir, &std::cerr, &stop.flag(),
+                                          file.source);
+             });
   const auto& done = result.steps;
-  const bool complete = !result.interrupted && done.size() == options.epsilons.size() &&
-                        (done.empty() || done.back().converged);
+  const bool complete = result.Complete(options);
   if (!result.message.empty()) std::cerr << "nfrc: " << result.message << "\n";
   std::cerr << "nfrc: " << done.size() << " of " << options.epsilons.size()
             << " refinement steps, wrote " << io.out_dir << "/refinement.json\n";
   return complete ? kExitOk : kExitRunIncomplete;
-}
-
-// Runs a study on a case read from `case_path`; an InputError it raises about the case (a field
-// such as stability.enabled, or "to" the case rejects) is re-raised naming the file.
-template <typename Study>
-auto NamingCaseFile(const std::string& case_path, Study study) {
-  try {
-    return study();
-  } catch (const nfrc::InputError& error) {
-    throw nfrc::InputError(case_path + ": " + error.what());
-  }
 }
 
 // An InputError about a peak-curve option, re-raised naming the command-line option that set it
@@ -184,13 +221,19 @@ auto NamingCaseFile(const std::string& case_path, Study study) {
   throw error;
 }
 
+// A study's "status" in its JSON file.
+std::string StudyStatus(bool complete, const nfrc::StopSignal& stop) {
+  return stop.requested() ? "interrupted" : complete ? "complete" : "incomplete";
+}
+
 // `nfrc fold-curve --kind peak|neimark_sacker`.
 int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::string& path,
                double to, const std::string& kind, const nfrc::StopSignal& stop) {
   using nfrc::NumberDomain;
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
-  const nfrc::CaseParameter parameter(path, the_case);
+  const nfrc::CaseParameter parameter = Naming(io.case_path, {{"parameter", "--parameter"}},
+                                               [&] { return nfrc::CaseParameter(path, the_case); });
   nfrc::EventCurveOptions options;
   options.to = to;
   try {
@@ -204,23 +247,25 @@ int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::s
     options.SetMaxStep(*max_step);
   }
   const double from = parameter.Get(the_case);
-  try {
-    options.Validate(from);
-  } catch (const nfrc::InputError& error) {
-    RethrowAsOption(line, error);
-  }
+  Naming(io.case_path, {{"to", "--to"}}, [&] {
+    try {
+      options.Validate(from);
+    } catch (const nfrc::InputError& error) {
+      RethrowAsOption(line, error);  // the peak curve's own options: a usage error
+    }
+  });
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
+  stop.set_immediate(false);
   const std::string file_name = kind + "_curve.json";
   nfrc::EventCurveWriter writer(io.out_dir + "/" + file_name, parameter.path(), from, to,
                                 options.measure.name, file.source);
   options.observer = &writer;
-  const nfrc::EventCurveResult result = NamingCaseFile(io.case_path, [&] {
+  const nfrc::EventCurveResult result = Naming(io.case_path, {{"to", "--to"}}, [&] {
     return kind == "peak" ? nfrc::TracePeakCurves(the_case, parameter, options)
                           : nfrc::TraceNeimarkSackerCurves(the_case, parameter, options);
   });
-  writer.Finish(result);
   bool complete = !result.curves.empty();
   for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
   for (size_t i = 0; i < result.curves.size(); ++i) {
@@ -231,6 +276,7 @@ int EventCurve(const nfrc::CommandLine& line, const CaseAndOut& io, const std::s
               << "\n";
     complete = complete && curve.end == nfrc::EventCurveEnd::kReachedTo;
   }
+  writer.Finish(result, StudyStatus(complete, stop));
   std::cerr << "nfrc: wrote " << io.out_dir << "/" << file_name << "\n";
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
@@ -257,22 +303,26 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
   }
   const nfrc::CaseFile file = nfrc::ReadCaseFile(io.case_path);
   const nfrc::Case& the_case = file.the_case;
-  const nfrc::CaseParameter parameter(*path, the_case);
+  const nfrc::CaseParameter parameter = Naming(io.case_path, {{"parameter", "--parameter"}}, [&] {
+    return nfrc::CaseParameter(*path, the_case);
+  });
   nfrc::FoldCurveOptions options;
   options.to = *to;
   if (const auto max_step = line.Number("--max-step", NumberDomain::kPositive)) {
     options.SetMaxStep(*max_step);
   }
   const double from = parameter.Get(the_case);
-  options.Validate(from);
+  Naming(io.case_path, {{"to", "--to"}, {"max_step", "--max-step"}},
+         [&] { options.Validate(from); });
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
+  stop.set_immediate(false);
   nfrc::FoldCurveWriter writer(io.out_dir, the_case, parameter.path(), from, *to, file.source);
   options.observer = &writer;
-  const nfrc::FoldCurveResult result = NamingCaseFile(
-      io.case_path, [&] { return nfrc::TraceFoldCurves(the_case, parameter, options); });
-  writer.Finish(result);
+  const nfrc::FoldCurveResult result = Naming(io.case_path, {{"to", "--to"}}, [&] {
+    return nfrc::TraceFoldCurves(the_case, parameter, options);
+  });
   bool complete = !result.curves.empty();
   for (const std::string& note : result.notes) std::cerr << "nfrc: " << note << "\n";
   for (const nfrc::FoldCurve& curve : result.curves) {
@@ -281,6 +331,7 @@ int FoldCurve(const std::vector<std::string>& args, const nfrc::StopSignal& stop
               << " turns: " << curve.summary.message << "\n";
     complete = complete && curve.summary.success();
   }
+  writer.Finish(result, StudyStatus(complete, stop));
   std::cerr << "nfrc: wrote " << io.out_dir << "/fold_curve.json\n";
   return complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
 }
@@ -388,17 +439,19 @@ int Sweep(const std::vector<std::string>& args, const nfrc::StopSignal& stop) {
           "ranks instead)");
     }
     const nfrc::RankSession session;
+    stop.set_immediate(false);
     const std::vector<nfrc::SweepRun> runs =
         nfrc::RunSweepOnRanks(session, file, *plan, io.out_dir, &std::cerr, &stop.flag());
     if (session.rank() != 0) return kExitOk;  // rank 0 reports for all
     return ReportSweep(runs, io.out_dir, stop);
   }
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
   nfrc::SweepOptions options;
   options.jobs = jobs;
   options.progress = &std::cerr;
   options.stop = &stop.flag();
-  return ReportSweep(nfrc::RunSweep(file, *plan, io.out_dir, options), io.out_dir, stop);
+  stop.set_immediate(false);
+  return ReportSweep(nfrc::RunSweep(file, *plan, io.out_dir, options).runs, io.out_dir, stop);
 }
 
 // Runs tools/<script> with the arguments under the system Python; its exit status.
@@ -471,9 +524,12 @@ int Validate(const std::vector<std::string>& args, const nfrc::StopSignal& stop)
         "--omega: no frequencies to validate (give --omega or the case's "
         "validation.omega)");
   }
-  const nfrc::OutputDirectoryLock lock(io.out_dir);
-  const nfrc::ValidationResult result = nfrc::RunValidation(
-      the_case, settings, io.out_dir, &std::cerr, &std::cout, &stop.flag(), file.source);
+  const nfrc::OutputDirectoryLock lock = LockOutput(io.out_dir);
+  stop.set_immediate(false);
+  const nfrc::ValidationResult result = Naming(io.case_path, {}, [&] {
+    return nfrc::RunValidation(the_case, settings, io.out_dir, &std::cerr, &std::cout, &stop.flag(),
+                               file.source);
+  });
   std::cerr << "nfrc: wrote " << io.out_dir << "/validation.json\n";
   int status = result.complete && !stop.requested() ? kExitOk : kExitRunIncomplete;
   if (!line.Flag("--no-plot") && RunPythonScript("plot_validation.py", {io.out_dir}) != 0) {
@@ -490,9 +546,11 @@ int Dispatch(const std::string& command, const std::vector<std::string>& args) {
     std::cerr << "nfrc: unknown command \"" << command << "\"\n" << kUsage;
     return kExitUsage;
   }
-  // SIGINT, SIGTERM and SIGHUP stop a run after its current point; what was found stays on
-  // disk with a final summary. A second SIGINT quits at once.
+  // SIGINT, SIGTERM and SIGHUP stop a run after its current point (or Newton iteration); what
+  // was found stays on disk with a final summary. A second SIGINT quits at once, and so does
+  // any stop signal while a command still reads its case (nothing is computed yet).
   const nfrc::StopSignal stop;
+  stop.set_immediate(true);
   if (command == "run") return Run(args, stop);
   if (command == "refine") return Refine(args, stop);
   if (command == "fold-curve") return FoldCurve(args, stop);

@@ -104,6 +104,27 @@ class TemporaryFile {
   bool committed_ = false;
 };
 
+// flock without waiting (retried on EINTR); false where another holder blocks it.
+bool TryLock(int fd, int operation) {
+  int status;
+  do {
+    status = flock(fd, operation | LOCK_NB);
+  } while (status != 0 && errno == EINTR);
+  return status == 0;
+}
+
+// The pid an exclusive holder wrote into its lock file, 0 if none is there (a read between
+// its lock and its write finds none).
+long HolderPid(int fd) {
+  char text[32] = {};
+  const ssize_t length = pread(fd, text, sizeof(text) - 1, 0);
+  return length > 0 ? std::strtol(text, nullptr, 10) : 0;
+}
+
+std::string PidText(long pid) {
+  return pid > 0 ? " (pid " + std::to_string(pid) + ")" : std::string();
+}
+
 void WriteFileAtomically(const std::string& path, std::string_view text) {
   TemporaryFile file(path);
   file.Commit(text, path);
@@ -111,10 +132,8 @@ void WriteFileAtomically(const std::string& path, std::string_view text) {
 
 }  // namespace
 
-OutputDirectoryInUse::OutputDirectoryInUse(const std::string& directory, long pid)
-    : std::runtime_error(directory + " is in use by another nfrc run" +
-                         (pid > 0 ? std::string(" (pid ") + std::to_string(pid) + ")" : "")),
-      pid_(pid) {}
+OutputDirectoryInUse::OutputDirectoryInUse(const std::string& message, long pid)
+    : std::runtime_error(message), pid_(pid) {}
 
 void WriteCsv(const std::string& path, const std::vector<std::string>& columns,
               const std::vector<Eigen::VectorXd>& data) {
@@ -218,19 +237,75 @@ OutputDirectoryLock::OutputDirectoryLock(std::string directory) : directory_(std
       status = flock(fd_, LOCK_EX | LOCK_NB);
     } while (status != 0 && errno == EINTR);
     if (status != 0 && errno == EWOULDBLOCK) {
-      // The holder writes its pid right after locking; a read in between finds no pid.
-      char text[32] = {};
-      const ssize_t length = pread(fd_, text, sizeof(text) - 1, 0);
-      const long pid = length > 0 ? std::strtol(text, nullptr, 10) : 0;
-      throw OutputDirectoryInUse(directory_, pid);
+      // Only shared holders: runs into directories inside this one (their pids are not
+      // recorded); otherwise the exclusive holder, which writes its pid right after locking.
+      if (TryLock(fd_, LOCK_SH)) {
+        flock(fd_, LOCK_UN);
+        throw OutputDirectoryInUse(directory_ +
+                                       " is in use: another nfrc run writes into a "
+                                       "directory inside it",
+                                   0);
+      }
+      const long pid = HolderPid(fd_);
+      throw OutputDirectoryInUse(directory_ + " is in use by another nfrc run" + PidText(pid), pid);
     }
     if (status != 0) throw Failure(path, "lock", errno);
+    LockEnclosing();
+    RefuseBusyChildren();
     const std::string pid = std::to_string(getpid()) + "\n";
     if (ftruncate(fd_, 0) != 0) throw Failure(path, "write", errno);
     WriteAll(fd_, pid, path);  // at offset 0: nothing has moved the fresh descriptor's offset
   } catch (...) {
+    for (int fd : enclosing_) close(fd);
     close(fd_);
     throw;
+  }
+}
+
+void OutputDirectoryLock::LockEnclosing() {
+  std::error_code error;
+  const std::filesystem::path canonical = std::filesystem::canonical(directory_, error);
+  if (error) return;  // created just above: only a race with its removal gets here
+  for (std::filesystem::path dir = canonical.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+    const std::string path = (dir / kFileName).string();
+    // Only directories that were an output have a lock file; none is created here.
+    const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+    if (fd >= 0) {
+      struct stat info;
+      if (fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+        close(fd);
+      } else if (!TryLock(fd, LOCK_SH)) {
+        const long pid = HolderPid(fd);
+        close(fd);
+        throw OutputDirectoryInUse(directory_ + " lies inside " + dir.string() +
+                                       ", which another nfrc run" + PidText(pid) +
+                                       " is writing (a sweep writes its runs there)",
+                                   pid);
+      } else {
+        enclosing_.push_back(fd);
+      }
+    }
+    if (dir == dir.root_path()) break;
+  }
+}
+
+void OutputDirectoryLock::RefuseBusyChildren() const {
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory_, error)) {
+    std::error_code kind;
+    if (!entry.is_directory(kind) || entry.is_symlink(kind)) continue;
+    const std::string path = (entry.path() / kFileName).string();
+    const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) continue;
+    struct stat info;
+    const bool busy = fstat(fd, &info) == 0 && S_ISREG(info.st_mode) && !TryLock(fd, LOCK_SH);
+    const long pid = busy ? HolderPid(fd) : 0;
+    close(fd);  // also releases the probe's shared lock
+    if (busy) {
+      throw OutputDirectoryInUse(directory_ + " is in use: another nfrc run" + PidText(pid) +
+                                     " writes into " + entry.path().string() + " inside it",
+                                 pid);
+    }
   }
 }
 
@@ -239,6 +314,7 @@ OutputDirectoryLock::~OutputDirectoryLock() {
   // A failure here is harmless (the lock goes with the close) and a destructor cannot report it.
   [[maybe_unused]] const int cleared = ftruncate(fd_, 0);
   close(fd_);
+  for (int fd : enclosing_) close(fd);
 }
 
 }  // namespace nfrc

@@ -24,8 +24,9 @@ class OutputError : public std::runtime_error {
 // failures, which scripts may want to treat differently (retry elsewhere, alert).
 class OutputDirectoryInUse : public std::runtime_error {
  public:
-  // `pid` is the holder's process id as recorded in the lock file, 0 if unknown.
-  OutputDirectoryInUse(const std::string& directory, long pid);
+  // `pid` is the holder's process id as recorded in the lock file, 0 if unknown; `message`
+  // says how the directory is in use.
+  OutputDirectoryInUse(const std::string& message, long pid);
   long pid() const { return pid_; }
 
  private:
@@ -92,15 +93,20 @@ class CsvStream {
 // It is an flock(2) on DIR/.nfrc.lock, which holds the owner's pid for the message a second
 // run gets; the OS drops the lock when the process exits or dies, so no stale lock can block
 // a later run. The file itself stays (removing it would let two runs lock different inodes).
+// Output directories nest (a sweep writes its runs into DIR/<k>/): every enclosing directory
+// that has a lock file is locked shared, so a run into DIR/0 is refused while a sweep holds
+// DIR; and a directory whose immediate subdirectory a live run holds is refused, so a sweep
+// into DIR is refused while a run holds DIR/0.
 class OutputDirectoryLock {
  public:
   static constexpr const char* kFileName = ".nfrc.lock";
 
   // Creates `directory` if needed and locks it without waiting. Throws OutputDirectoryInUse
-  // if another run (or another OutputDirectoryLock in this process) holds it, OutputError if
-  // the directory or lock file cannot be created (or the lock file is a symbolic link).
+  // if another run (or another OutputDirectoryLock in this process) holds it or an enclosing
+  // output directory, OutputError if the directory or lock file cannot be created (or the
+  // lock file is a symbolic link).
   explicit OutputDirectoryLock(std::string directory);
-  // Releases the lock.
+  // Releases the locks.
   ~OutputDirectoryLock();
   OutputDirectoryLock(const OutputDirectoryLock&) = delete;
   OutputDirectoryLock& operator=(const OutputDirectoryLock&) = delete;
@@ -108,8 +114,14 @@ class OutputDirectoryLock {
   const std::string& directory() const { return directory_; }
 
  private:
+  // Shared locks on the enclosing output directories; throws OutputDirectoryInUse.
+  void LockEnclosing();
+  // Throws OutputDirectoryInUse if a live run holds an immediate subdirectory.
+  void RefuseBusyChildren() const;
+
   std::string directory_;
   int fd_ = -1;
+  std::vector<int> enclosing_;  // shared-locked lock files of enclosing directories
 };
 
 }  // namespace nfrc

@@ -29,10 +29,13 @@ std::optional<ReductionRequest> ReadReduction(InputFields& model_fields) {
     options.max_frequency = fields.RequiredNumber("max_frequency");
     if (!(options.max_frequency > 0.0)) fields.Fail("max_frequency", "must be positive (rad/s)");
   }
-  options.check_frequencies = fields.OptionalInt("check_frequencies", options.check_frequencies);
   // Each checked frequency costs a Lanczos vector on the full model; 50 is plenty for a check.
   constexpr int kMaxCheckFrequencies = 50;
-  if (options.check_frequencies < 0 || options.check_frequencies > kMaxCheckFrequencies) {
+  if (fields.Has("check_frequencies")) {
+    options.check_frequencies = fields.RequiredInt("check_frequencies");
+  }
+  if (fields.Has("check_frequencies") &&
+      (options.check_frequencies < 0 || options.check_frequencies > kMaxCheckFrequencies)) {
     fields.Fail("check_frequencies",
                 "must be between 0 and " + std::to_string(kMaxCheckFrequencies));
   }
@@ -58,7 +61,13 @@ void ApplyReduction(Case& the_case, const ReductionRequest& request) {
   CraigBamptonModel reduced;
   try {
     reduced = ReduceCraigBampton(full, boundary, request.options);
-  } catch (const std::exception& error) {
+  } catch (const std::invalid_argument& error) {
+    // "check_frequencies: ..." names a field of model.reduction; "boundary: ..." the DOFs.
+    const std::string what = error.what();
+    const bool field = what.rfind("check_frequencies:", 0) == 0 || what.rfind("modes:", 0) == 0 ||
+                       what.rfind("max_frequency:", 0) == 0;
+    throw InputError("model.reduction" + std::string(field ? "." : ": ") + what);
+  } catch (const std::runtime_error& error) {
     throw InputError("model.reduction: " + std::string(error.what()));
   }
   std::vector<int> new_index(static_cast<size_t>(full.num_dofs()), -1);

@@ -11,7 +11,8 @@ namespace nfrc {
 // What a case's "model": {"reduction": {...}} asks for:
 //   {"type": "craig_bampton", "modes": N}            N fixed-interface modes, or
 //   {"type": "craig_bampton", "max_frequency": ω}    every mode below kBandFactor·ω (rad/s),
-//   optional "check_frequencies" (default 5): eigenfrequencies compared with the full model.
+//   optional "check_frequencies" (default 5, or the reduced size if smaller; an explicit count
+//   above the reduced size is refused): eigenfrequencies compared with the full model.
 // The boundary DOFs are every DOF a law acts on, every forced DOF and every output DOF.
 // A "modal_ratio" damping is applied to the reduced model's modes (which approximate the
 // full model's lowest ones; the full model's every mode is out of reach): `modal_ratio`

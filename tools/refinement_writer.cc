@@ -21,11 +21,16 @@ nlohmann::json DistanceToJson(const LcpDistance& distance) {
 
 }  // namespace
 
-RefinementWriter::RefinementWriter(std::string dir, const Case& the_case, nlohmann::json source)
+RefinementWriter::RefinementWriter(std::string dir, const Case& the_case, double omega,
+                                   nlohmann::json source)
     : dir_(std::move(dir)),
       case_(the_case),
       branch_(dir_, the_case, std::move(source)),
-      document_({{"omega", 0.0}, {"steps", nlohmann::json::array()}}) {}
+      document_({{"omega", omega}, {"status", "running"}, {"steps", nlohmann::json::array()}}) {
+  Write();
+}
+
+void RefinementWriter::Write() { WriteJsonAtomically(dir_ + "/refinement.json", document_); }
 
 void RefinementWriter::OnBranchEnd(const ContinuationSummary& summary) { branch_.Finish(summary); }
 
@@ -49,6 +54,7 @@ void RefinementWriter::OnLcpReference(const LcpReference& reference) {
                       {"min_force", Field(record, "min_force")},
                       {"signals_file", "lcp/" + record["file"].get<std::string>()},
                       {"samples_file", "lcp/" + record.value("samples_file", std::string())}};
+  Write();
 }
 
 void RefinementWriter::OnStep(const RefinementStep& step) {
@@ -68,12 +74,15 @@ void RefinementWriter::OnStep(const RefinementStep& step) {
                           {"laws", record["laws"]}};
   if (step.distance_to_lcp) entry["distance_to_lcp"] = DistanceToJson(*step.distance_to_lcp);
   document_["steps"].push_back(std::move(entry));
+  // A step is a solve of seconds: the small document is rewritten after each.
+  Write();
 }
 
-void RefinementWriter::Finish(const RefinementResult& result) {
+void RefinementWriter::Finish(const RefinementResult& result, bool complete) {
   document_["omega"] = result.omega;
+  document_["status"] = result.interrupted ? "interrupted" : complete ? "complete" : "incomplete";
   if (!result.message.empty()) document_["message"] = result.message;
-  WriteJsonAtomically(dir_ + "/refinement.json", document_);
+  Write();
 }
 
 RefinementResult RunRefinement(const Case& the_case, const RefinementOptions& options,
@@ -81,14 +90,14 @@ RefinementResult RunRefinement(const Case& the_case, const RefinementOptions& op
                                const std::atomic<bool>* stop, const nlohmann::json& source) {
   options.Validate(the_case);
   the_case.Validate();
-  RefinementWriter writer(out_dir, the_case, source);
+  RefinementWriter writer(out_dir, the_case, options.omega, source);
   RefinementRunOptions run;
   run.progress = progress;
   run.stop = stop;
   run.branch = writer.branch_observer();
   run.observer = &writer;
   const RefinementResult result = RefineEpsilon(the_case, options, run);
-  writer.Finish(result);
+  writer.Finish(result, result.Complete(options));
   return result;
 }
 

@@ -29,6 +29,8 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
                const std::atomic<bool>* stop, const nlohmann::json& source, TraceResult* trace,
                int threads) {
   the_case.Validate();
+  // Before anything is written: a model it refuses leaves no files.
+  const ModelCheck model_check = CheckLinearModel(the_case.model.model);
   if (progress != nullptr && the_case.reduction) PrintReduction(*the_case.reduction, *progress);
   BranchWriter writer(out_dir, the_case, source);
   TraceOptions options;
@@ -36,6 +38,7 @@ Branch RunCase(const Case& the_case, const std::string& out_dir, std::ostream* p
   options.stop = stop;
   options.observer = &writer;
   options.threads = threads;
+  options.model_check = &model_check;
   TraceResult result = TraceCase(the_case, options);
   writer.SetWindows(result.quasi_periodic_windows);
   writer.Finish(result.branch.summary);

@@ -19,21 +19,24 @@ constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
 std::atomic<bool> g_requested{false};
 std::atomic<int> g_signal{0};  // the first stop signal, 0 before one arrives
 std::atomic<bool> g_alive{false};
+// Set while nothing worth keeping has been computed (reading a case, reducing a model): a stop
+// signal then takes the signal's default action at once instead of waiting for a poll.
+std::atomic<bool> g_immediate{false};
 
 // The dispositions found at construction, restored at destruction; one per kSignals entry.
 std::array<struct sigaction, kSignals.size()> g_previous;
 std::array<bool, kSignals.size()> g_installed{};
 
 void OnStopSignal(int signal_number) {
-  if (signal_number == SIGINT && g_requested.load()) {
+  if (g_immediate.load() || (signal_number == SIGINT && g_requested.load())) {
     // Force-quit: the default action (termination) happens as the handler returns, because
     // the raised SIGINT is blocked until then. Both calls are async-signal-safe; errno is
     // kept for the interrupted code in case termination is somehow not immediate.
     const int saved_errno = errno;
     struct sigaction default_action = {};
     default_action.sa_handler = SIG_DFL;
-    sigaction(SIGINT, &default_action, nullptr);
-    raise(SIGINT);
+    sigaction(signal_number, &default_action, nullptr);
+    raise(signal_number);
     errno = saved_errno;
     return;
   }
@@ -86,9 +89,12 @@ StopSignal::StopSignal() {
 }
 
 StopSignal::~StopSignal() {
+  g_immediate.store(false);
   RestorePrevious();
   g_alive.store(false);
 }
+
+void StopSignal::set_immediate(bool immediate) const { g_immediate.store(immediate); }
 
 bool StopSignal::requested() const { return g_requested.load(); }
 

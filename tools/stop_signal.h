@@ -18,6 +18,7 @@ namespace nfrc {
 //
 // Force-quit: a second SIGINT after any stop request restores SIGINT's default action and
 // kills the process at once, for a user whose run does not reach its next poll soon enough.
+// The same happens to any stop signal while set_immediate(true) holds.
 // A repeated SIGTERM or SIGHUP only keeps the request: one hangup may deliver SIGHUP twice
 // (from the kernel and from the shell), and a service manager escalates to SIGKILL itself.
 //
@@ -31,6 +32,11 @@ class StopSignal {
   ~StopSignal();
   StopSignal(const StopSignal&) = delete;
   StopSignal& operator=(const StopSignal&) = delete;
+
+  // Immediate (while a command reads its case, reduces a model or plans a sweep: nothing
+  // computed yet is worth keeping): a stop signal takes its default action at once, ending the
+  // process. Deferred (the default, and once a run has begun): it raises the stop request.
+  void set_immediate(bool immediate) const;
 
   // True once a stop signal has arrived.
   bool requested() const;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -10,12 +12,16 @@
 #include <optional>
 #include <ostream>
 #include <sstream>
+#include <string_view>
 #include <thread>
 #include <utility>
 
 #include "analysis/trace.h"
 #include "core/errors.h"
+#include "tools/input_fields.h"
+#include "tools/json_input.h"
 #include "tools/output_files.h"
+#include "tools/rewrite_schedule.h"
 #include "tools/run_case.h"
 
 namespace nfrc {
@@ -74,31 +80,46 @@ std::map<std::string, double> Peaks(const TraceResult& trace, const Case& the_ca
   return peaks;
 }
 
-SweepRun RunFromJson(const nlohmann::json& run, const SweepPlan& plan) {
-  const int index = run.value("index", -1);
+constexpr const char* kStatuses[] = {"complete", "failed", "interrupted", "pending"};
+
+// A run as sweep.json or run.json records it (`where` names it in messages: "runs[3]"), every
+// field of its type; InputError naming the field otherwise. Unknown fields are left alone
+// (a newer nfrc may add some).
+SweepRun RunFromJson(const nlohmann::json& json, const SweepPlan& plan, const std::string& where) {
+  InputFields fields(json, where);
+  const int index = fields.RequiredInt("index");
   if (index < 0 || static_cast<size_t>(index) >= plan.size()) {
-    throw InputError("--out: a sweep record names run " + std::to_string(index) +
-                     ", which this sweep does not have");
+    fields.Fail("index", "run " + std::to_string(index) + " is not one of this sweep's " +
+                             std::to_string(plan.size()) + " runs");
   }
   SweepRun record = PendingRun(plan, static_cast<size_t>(index));
-  record.dir = run.value("dir", record.dir);
-  record.status = run.value("status", "pending");
-  record.termination = run.value("termination", "");
-  record.message = run.value("message", "");
-  record.points = run.value("points", 0);
-  record.folds = run.value("folds", 0);
-  record.bifurcations = run.value("bifurcations", 0);
-  record.peaks = run.value("peaks", std::map<std::string, double>{});
-  record.seconds = run.value("seconds", 0.0);
+  record.dir = fields.OptionalString("dir", record.dir);
+  record.status = fields.OptionalString("status", "pending");
+  if (std::find(std::begin(kStatuses), std::end(kStatuses), record.status) == std::end(kStatuses)) {
+    fields.Fail("status",
+                "\"" + record.status + "\" is not complete, failed, interrupted or pending");
+  }
+  record.termination = fields.OptionalString("termination", "");
+  record.message = fields.OptionalString("message", "");
+  record.points = fields.OptionalInt("points", 0);
+  record.folds = fields.OptionalInt("folds", 0);
+  record.bifurcations = fields.OptionalInt("bifurcations", 0);
+  record.seconds = fields.OptionalNumber("seconds", 0.0);
+  if (fields.Has("peaks")) {
+    InputFields peaks(fields.RequiredObject("peaks"), where + ".peaks");
+    for (const auto& [name, value] : json.at("peaks").items()) {
+      record.peaks[name] = peaks.RequiredNumber(name);
+    }
+  }
   return record;
 }
 
-nlohmann::json ReadJson(const std::string& path) {
+// The JSON of a sweep's file; InputError naming --out and the file if it is not one.
+nlohmann::json ReadRecordFile(const std::string& path) {
   try {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& error) {
-    throw InputError("--out: " + path + " is not a sweep record (" + error.what() + ")");
+    return ReadJsonFile(path, kSweepRecordKind);
+  } catch (const InputError& error) {
+    throw InputError(std::string("--out: ") + error.what());
   }
 }
 
@@ -109,40 +130,159 @@ nlohmann::json AxesJson(const SweepGrid& grid) {
   return axes;
 }
 
-// Runs from an earlier sweep.json of the same sweep, complete ones only. A record written
-// before grids has only the one-parameter "parameter" and "values".
-std::vector<SweepRun> Previous(const std::string& path, const SweepPlan& plan) {
+std::string RunDir(const SweepJob& job, const SweepRun& run) { return job.out_dir + "/" + run.dir; }
+
+// Why complete run `run` of an earlier sweep cannot be kept, "" if it can: its folder must be
+// its own (DIR/<index>) and hold a complete run.json of the same run and case, branch.json
+// and branch.csv.
+std::string NotKept(const SweepJob& job, const SweepRun& run) {
+  const std::string own = std::to_string(run.index);
+  if (run.dir != own) return "its record names the folder \"" + run.dir + "\", not " + own;
+  const std::string dir = RunDir(job, run);
+  const std::string path = dir + "/run.json";
+  if (!std::filesystem::is_regular_file(path)) return "its folder has no run.json";
+  nlohmann::json json;
+  try {
+    json = ReadJsonFile(path, kSweepRecordKind);
+    const SweepRun record = RunFromJson(json, job.plan, "run");
+    if (record.index != run.index) return "its run.json is run " + std::to_string(record.index);
+    if (record.status != "complete") return "its run.json says " + record.status;
+  } catch (const InputError& error) {
+    return std::string("its run.json is not a run record (") + error.what() + ")";
+  }
+  if (!json.contains("case_fingerprint") || json["case_fingerprint"] != job.fingerprint) {
+    return "its run.json is of another case";
+  }
+  for (const char* name : {"branch.json", "branch.csv"}) {
+    if (!std::filesystem::is_regular_file(dir + "/" + name)) {
+      return std::string("its folder has no ") + name;
+    }
+  }
+  return "";
+}
+
+// The runs an earlier sweep.json in the job's directory leaves complete and kept (`resumed`),
+// and why each other complete record is not (run index, reason); InputError naming --out if
+// it is not a record of this sweep of this case.
+struct PreviousRuns {
   std::vector<SweepRun> kept;
-  if (!std::filesystem::exists(path)) return kept;
-  const nlohmann::json old = ReadJson(path);
+  std::vector<std::pair<int, std::string>> refused;
+  std::string note;  // about the record as a whole
+};
+
+PreviousRuns Previous(const SweepJob& job) {
+  PreviousRuns previous;
+  std::vector<SweepRun>& kept = previous.kept;
+  const std::string path = job.out_dir + "/sweep.json";
+  std::error_code error;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) return previous;
+  const nlohmann::json old = ReadRecordFile(path);
+  if (!old.is_object()) {
+    throw InputError("--out: " + path + ": expected an object (a sweep record)");
+  }
+  // A record written before grids has only the one-parameter "parameter" and "values".
   nlohmann::json identity = nlohmann::json::object();
-  if (old.is_object() && old.contains("manifest")) {
+  if (old.contains("manifest")) {
     identity["manifest"] = old["manifest"];
     identity["variants"] = old.value("variants", nlohmann::json());
-  } else if (old.is_object() && old.contains("parameters")) {
+  } else if (old.contains("parameters")) {
     identity["parameters"] = old["parameters"];
-  } else if (old.is_object()) {
+  } else {
     identity["parameters"] =
-        nlohmann::json::array({{{"path", old.value("parameter", "")},
-                                {"values", old.value("values", std::vector<double>{})}}});
+        nlohmann::json::array({{{"path", old.value("parameter", nlohmann::json())},
+                                {"values", old.value("values", nlohmann::json())}}});
   }
-  if (identity != plan.Record()) {
+  if (identity != job.plan.Record()) {
     throw InputError("--out: " + path + " holds another sweep (parameters or values differ)");
   }
-  for (const nlohmann::json& run : old.value("runs", nlohmann::json::array())) {
-    if (run.value("status", "") != "complete") continue;
-    SweepRun record = RunFromJson(run, plan);
+  const nlohmann::json* recorded =
+      old.contains("case_fingerprint") ? &old["case_fingerprint"] : nullptr;
+  if (recorded != nullptr && *recorded != job.fingerprint) {
+    throw InputError("--out: " + path +
+                     " holds this sweep of another case (the case file, or a "
+                     "file it names, changed since: case fingerprint " +
+                     (recorded->is_string() ? recorded->get<std::string>() : recorded->dump()) +
+                     ", now " + job.fingerprint +
+                     "): give another --out, or remove the directory to start over");
+  }
+  if (!old.contains("runs")) return previous;
+  const nlohmann::json& runs = old["runs"];
+  if (!runs.is_array()) throw InputError("--out: " + path + ": runs: expected a list of runs");
+  std::vector<SweepRun> records;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    try {
+      records.push_back(RunFromJson(runs[k], job.plan, "runs[" + std::to_string(k) + "]"));
+    } catch (const InputError& bad) {
+      throw InputError("--out: " + path + ": " + bad.what());
+    }
+  }
+  if (recorded == nullptr) {
+    previous.note = path +
+                    " records no case fingerprint (an earlier nfrc wrote it): every run "
+                    "is traced again";
+    return previous;
+  }
+  for (SweepRun& record : records) {
+    if (record.status != "complete") continue;
+    const std::string why = NotKept(job, record);
+    if (!why.empty()) {
+      previous.refused.emplace_back(record.index, why);
+      continue;
+    }
     record.resumed = true;
     kept.push_back(std::move(record));
   }
-  return kept;
+  return previous;
+}
+
+// FNV-1a, 64 bits: a fingerprint, not a defence against forgery.
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ULL;
+constexpr std::uint64_t kFnvPrime = 1099511628211ULL;
+
+void Hash(std::string_view bytes, std::uint64_t* hash) {
+  for (const char c : bytes) {
+    *hash ^= static_cast<unsigned char>(c);
+    *hash *= kFnvPrime;
+  }
+}
+
+// Hashes every regular file a string of `node` names (relative to base_dir), with its name.
+void HashNamedFiles(const nlohmann::json& node, const std::string& base_dir, std::uint64_t* hash) {
+  if (node.is_structured()) {
+    for (const nlohmann::json& child : node) HashNamedFiles(child, base_dir, hash);
+    return;
+  }
+  if (!node.is_string()) return;
+  const std::string& name = node.get_ref<const std::string&>();
+  if (name.empty()) return;
+  const std::filesystem::path path = std::filesystem::path(name).is_absolute()
+                                         ? std::filesystem::path(name)
+                                         : std::filesystem::path(base_dir) / name;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return;
+  std::ifstream in(path, std::ios::binary);
+  Hash(name, hash);
+  std::vector<char> chunk(1 << 16);
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    Hash(std::string_view(chunk.data(), static_cast<size_t>(in.gcount())), hash);
+  }
 }
 
 }  // namespace
 
-SweepPlan::SweepPlan(SweepGrid grid) : grid_(std::move(grid)) {}
+SweepPlan::SweepPlan(SweepGrid grid) : grid_(std::move(grid)) {
+  record_ = {{"parameters", AxesJson(grid_)}};
+}
 
-SweepPlan::SweepPlan(CaseManifest manifest) : manifest_(std::move(manifest)) {}
+SweepPlan::SweepPlan(CaseManifest manifest) : manifest_(std::move(manifest)) {
+  nlohmann::json variants = nlohmann::json::array();
+  for (const CaseVariant& variant : manifest_->variants) {
+    nlohmann::json set = nlohmann::json::object();
+    for (const FieldChange& change : variant.changes) set[change.path] = change.value;
+    variants.push_back({{"name", variant.name}, {"set", set}});
+  }
+  record_ = {{"manifest", manifest_->path}, {"variants", variants}};
+}
 
 size_t SweepPlan::size() const { return manifest_ ? manifest_->variants.size() : GridSize(grid_); }
 
@@ -165,17 +305,6 @@ std::string SweepPlan::Label(size_t index) const {
     label += (i == 0 ? "" : ", ") + grid_[i].path + "=" + value.str();
   }
   return label;
-}
-
-nlohmann::json SweepPlan::Record() const {
-  if (!manifest_) return {{"parameters", AxesJson(grid_)}};
-  nlohmann::json variants = nlohmann::json::array();
-  for (const CaseVariant& variant : manifest_->variants) {
-    nlohmann::json set = nlohmann::json::object();
-    for (const FieldChange& change : variant.changes) set[change.path] = change.value;
-    variants.push_back({{"name", variant.name}, {"set", set}});
-  }
-  return {{"manifest", manifest_->path}, {"variants", variants}};
 }
 
 CaseFile CaseForRun(const CaseFile& file, const SweepPlan& plan, size_t index) {
@@ -269,7 +398,17 @@ SweepRun PendingRun(const SweepPlan& plan, size_t index) {
   return run;
 }
 
-std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_dir) {
+std::string CaseFingerprint(const CaseFile& file) {
+  std::uint64_t hash = kFnvOffset;
+  Hash(file.source.dump(), &hash);
+  HashNamedFiles(file.source, file.base_dir, &hash);
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+std::vector<SweepRun> PlanSweep(const SweepJob& job, std::vector<std::string>* notes) {
+  const SweepPlan& plan = job.plan;
   if (plan.is_grid()) CheckGrid(plan.grid());
   for (const SweepAxis& axis : plan.grid()) {
     for (double value : axis.values) {
@@ -278,22 +417,49 @@ std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_di
       }
     }
   }
-  std::filesystem::create_directories(out_dir);
+  std::filesystem::create_directories(job.out_dir);
   std::vector<SweepRun> runs;
+  runs.reserve(plan.size());
   for (size_t k = 0; k < plan.size(); ++k) runs.push_back(PendingRun(plan, k));
-  for (SweepRun& kept : Previous(out_dir + "/sweep.json", plan)) {
+  PreviousRuns previous = Previous(job);
+  if (notes != nullptr && !previous.note.empty()) notes->push_back(previous.note);
+  // Without a fingerprint nothing in the directory is known to be this case's.
+  const bool trusted = previous.note.empty();
+  for (SweepRun& kept : previous.kept) {
     runs[static_cast<size_t>(kept.index)] = std::move(kept);
+  }
+  // A run that finished after sweep.json was last written (it is rewritten on a schedule, and
+  // a killed sweep writes no last one) has its complete run.json, of this case.
+  for (SweepRun& run : runs) {
+    if (!trusted) break;
+    if (run.resumed || !std::filesystem::exists(RunDir(job, run) + "/run.json")) continue;
+    std::optional<SweepRun> record;
+    try {
+      record = ReadRunRecord(job, run);
+    } catch (const InputError&) {
+      continue;  // traced again: its run.json is rewritten
+    }
+    if (record && record->status == "complete" && NotKept(job, *record).empty()) {
+      run = *record;
+      run.resumed = true;
+    }
+  }
+  for (const auto& [index, why] : previous.refused) {
+    if (notes == nullptr) break;
+    const bool kept = runs[static_cast<size_t>(index)].resumed;
+    notes->push_back("run " + std::to_string(index) + ": its record in sweep.json not used (" +
+                     why + "): " + (kept ? "kept from its own folder's run.json" : "traced again"));
   }
   return runs;
 }
 
-SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run,
-                       const std::string& out_dir, const std::atomic<bool>* stop, int threads) {
-  const std::string dir = out_dir + "/" + run.dir;
+SweepRun TraceSweepRun(const SweepJob& job, SweepRun run, const std::atomic<bool>* stop,
+                       int threads) {
+  const std::string dir = RunDir(job, run);
   std::filesystem::remove(dir + "/run.json");
   const auto start = std::chrono::steady_clock::now();
   try {
-    const CaseFile at_run = CaseForRun(file, plan, static_cast<size_t>(run.index));
+    const CaseFile at_run = CaseForRun(job.file, job.plan, static_cast<size_t>(run.index));
     const Case& the_case = at_run.the_case;
     TraceResult trace;
     RunCase(the_case, dir, nullptr, stop, at_run.source, &trace, threads);
@@ -313,19 +479,24 @@ SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::filesystem::create_directories(dir);
-  WriteJsonAtomically(dir + "/run.json", RunJson(run, plan));
+  nlohmann::json record = RunJson(run, job.plan);
+  record["case_fingerprint"] = job.fingerprint;
+  WriteJsonAtomically(dir + "/run.json", record);
   return run;
 }
 
-std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
-                                      const SweepPlan& plan) {
-  const std::string path = out_dir + "/" + run.dir + "/run.json";
+std::optional<SweepRun> ReadRunRecord(const SweepJob& job, const SweepRun& run) {
+  const std::string path = RunDir(job, run) + "/run.json";
   if (!std::filesystem::exists(path)) return std::nullopt;
-  return RunFromJson(ReadJson(path), plan);
+  try {
+    return RunFromJson(ReadJsonFile(path, kSweepRecordKind), job.plan, "run");
+  } catch (const InputError& error) {
+    throw InputError(path + ": " + error.what());
+  }
 }
 
-void WriteSweepRecord(const std::string& out_dir, const SweepPlan& plan,
-                      const std::vector<SweepRun>& runs) {
+void WriteSweepRecord(const SweepJob& job, const std::vector<SweepRun>& runs) {
+  const SweepPlan& plan = job.plan;
   nlohmann::json document = nlohmann::json::object();
   // One parameter: the fields readers of sweeps before grids know, kept.
   if (plan.is_grid() && plan.grid().size() == 1) {
@@ -333,9 +504,10 @@ void WriteSweepRecord(const std::string& out_dir, const SweepPlan& plan,
     document["values"] = plan.grid()[0].values;
   }
   document.update(plan.Record());
-  document["runs"] = nlohmann::json::array();
-  for (const SweepRun& run : runs) document["runs"].push_back(RunJson(run, plan));
-  WriteJsonAtomically(out_dir + "/sweep.json", document);
+  document["case_fingerprint"] = job.fingerprint;
+  nlohmann::json& list = document["runs"] = nlohmann::json::array();
+  for (const SweepRun& run : runs) list.push_back(RunJson(run, plan));
+  WriteJsonAtomically(job.out_dir + "/sweep.json", document);
 }
 
 void PrintRun(std::ostream* progress, const SweepPlan& plan, const SweepRun& run) {
@@ -345,28 +517,35 @@ void PrintRun(std::ostream* progress, const SweepPlan& plan, const SweepRun& run
             << (run.message.empty() ? "" : ": ") << run.message << "\n";
 }
 
-std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parameter,
-                               const std::vector<double>& values, const std::string& out_dir,
-                               const SweepOptions& options) {
+SweepResult RunSweep(const CaseFile& file, const CaseParameter& parameter,
+                     const std::vector<double>& values, const std::string& out_dir,
+                     const SweepOptions& options) {
   return RunSweep(file, SweepGrid{{parameter, values}}, out_dir, options);
 }
 
-std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepGrid& grid,
-                               const std::string& out_dir, const SweepOptions& options) {
+SweepResult RunSweep(const CaseFile& file, const SweepGrid& grid, const std::string& out_dir,
+                     const SweepOptions& options) {
   CheckGridPaths(file, grid);
   return RunSweep(file, SweepPlan(grid), out_dir, options);
 }
 
-std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
-                               const std::string& out_dir, const SweepOptions& options) {
+SweepResult RunSweep(const CaseFile& file, const SweepPlan& plan, const std::string& out_dir,
+                     const SweepOptions& options) {
   if (options.jobs < 1) throw InputError("--jobs: must be at least 1");
-  std::vector<SweepRun> runs = PlanSweep(plan, out_dir);
-  WriteSweepRecord(out_dir, plan, runs);
+  const SweepJob job{file, plan, out_dir, CaseFingerprint(file)};
+  SweepResult result;
+  result.runs = PlanSweep(job, &result.notes);
+  std::vector<SweepRun>& runs = result.runs;
+  if (options.progress != nullptr) {
+    for (const std::string& note : result.notes) *options.progress << "nfrc: " << note << "\n";
+  }
+  WriteSweepRecord(job, runs);
+  RewriteSchedule schedule(kSweepRecordInterval);
   std::vector<size_t> todo;
   for (size_t k = 0; k < runs.size(); ++k) {
     if (!runs[k].resumed) todo.push_back(k);
   }
-  std::mutex mutex;  // guards runs, the record file and progress
+  std::mutex mutex;  // guards runs, the record file, its schedule and progress
   std::atomic<size_t> next{0};
   // An I/O error or a broken invariant in one thread ends the sweep: no new runs start, and it
   // is rethrown here once the running ones have finished.
@@ -377,11 +556,15 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
     for (size_t i = next++; i < todo.size() && !aborted.load(); i = next++) {
       if (options.stop != nullptr && options.stop->load()) return;
       try {
-        const SweepRun run =
-            TraceSweepRun(file, plan, runs[todo[i]], out_dir, options.stop, hill_threads);
+        const SweepRun run = TraceSweepRun(job, runs[todo[i]], options.stop, hill_threads);
         const std::lock_guard<std::mutex> lock(mutex);
         runs[todo[i]] = run;
-        WriteSweepRecord(out_dir, plan, runs);
+        // Every run is on disk in its run.json: sweep.json follows on the schedule.
+        if (schedule.Due(true)) {
+          const auto start = RewriteSchedule::Clock::now();
+          WriteSweepRecord(job, runs);
+          schedule.Wrote(start);
+        }
         PrintRun(options.progress, plan, run);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
@@ -395,8 +578,10 @@ std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
   for (int t = 0; t < extra; ++t) threads.emplace_back(worker);
   worker();
   for (std::thread& thread : threads) thread.join();
+  WriteSweepRecord(job, runs);
+  result.record_writes = schedule.writes() + 2;  // and the first and last
   if (first_error) std::rethrow_exception(first_error);
-  return runs;
+  return result;
 }
 
 }  // namespace nfrc

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <iosfwd>
 #include <map>
@@ -66,12 +67,13 @@ class SweepPlan {
   // Run `index` for people: "path=value, ..." or the variant's name.
   std::string Label(size_t index) const;
   // What sweep.json records of the plan ("parameters", or "manifest" and "variants"): a sweep
-  // resumes only into a directory that holds the same.
-  nlohmann::json Record() const;
+  // resumes only into a directory that holds the same. Built once.
+  const nlohmann::json& Record() const { return record_; }
 
  private:
   SweepGrid grid_;
   std::optional<CaseManifest> manifest_;
+  nlohmann::json record_;
 };
 // One branch of a sweep, as DIR/sweep.json records it.
 struct SweepRun {
@@ -91,50 +93,81 @@ struct SweepRun {
   bool resumed = false;  // kept from an earlier run of the same sweep, not traced again
 };
 
+// sweep.json's RewriteSchedule interval: a finished run is urgent, so this bounds only the
+// duration rule's spacing from below when writes are quick.
+inline constexpr std::chrono::milliseconds kSweepRecordInterval{1000};
+
 struct SweepOptions {
   // Branches traced at once, each in its own thread. Above 1 each branch analyses its
   // stability on its own thread (TraceOptions::threads 0): the jobs already share the cores.
   int jobs = 1;
-  std::ostream* progress = nullptr;         // a line per finished branch
+  std::ostream* progress = nullptr;         // a line per finished branch, and resume notes
   const std::atomic<bool>* stop = nullptr;  // raised: running branches stop after their point
 };
 
 // `nfrc sweep`: one branch per grid point (or per variant of a manifest), each traced and written
-// as `nfrc run` does into DIR/<k>/ (k the run's index in grid order), and DIR/sweep.json
-// (parameters, values, runs) rewritten atomically as runs finish (and each run in
-// DIR/<k>/run.json). A run that fails is a status, never the end of the sweep. If DIR/sweep.json
-// already holds this sweep (same parameters and values), its complete runs are kept and the others
-// traced again (resume); a different sweep there is an InputError naming --out. sweep.json has
-// "parameters": [{"path", "values"}] and, for one parameter only, the "parameter" and "values" of
-// that axis as well.
-std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepPlan& plan,
-                               const std::string& out_dir, const SweepOptions& options);
-std::vector<SweepRun> RunSweep(const CaseFile& file, const SweepGrid& grid,
-                               const std::string& out_dir, const SweepOptions& options);
+// as `nfrc run` does into DIR/<k>/ (k the run's index in grid order) and recorded in
+// DIR/<k>/run.json as it finishes, and DIR/sweep.json (parameters, values, case fingerprint,
+// runs) rewritten atomically as runs finish, on a RewriteSchedule (so that a sweep of 10⁵ runs
+// spends a bounded share of its time rewriting it), and at the end. A run that fails is a
+// status, never the end of the sweep. If DIR/sweep.json already holds this sweep (same
+// parameters and values, same case fingerprint), its complete runs whose folders are their own
+// are kept and the others traced again (resume, PlanSweep); a different sweep or case there is
+// an InputError naming --out. sweep.json has "parameters": [{"path", "values"}] and, for one
+// parameter only, the "parameter" and "values" of that axis as well.
+// What a sweep did: its runs in plan order, what the resume said (PlanSweep's notes), and how
+// often DIR/sweep.json was written (at the start, on the schedule and at the end).
+struct SweepResult {
+  std::vector<SweepRun> runs;
+  std::vector<std::string> notes;
+  int record_writes = 0;
+};
+SweepResult RunSweep(const CaseFile& file, const SweepPlan& plan, const std::string& out_dir,
+                     const SweepOptions& options);
+SweepResult RunSweep(const CaseFile& file, const SweepGrid& grid, const std::string& out_dir,
+                     const SweepOptions& options);
 // One parameter: RunSweep of the grid {{parameter, values}}.
-std::vector<SweepRun> RunSweep(const CaseFile& file, const CaseParameter& parameter,
-                               const std::vector<double>& values, const std::string& out_dir,
-                               const SweepOptions& options);
+SweepResult RunSweep(const CaseFile& file, const CaseParameter& parameter,
+                     const std::vector<double>& values, const std::string& out_dir,
+                     const SweepOptions& options);
+
+// A fingerprint of a case file as a sweep resolves it: its JSON and the bytes of every file
+// a string in it names (Matrix Market matrices, relative to base_dir), so that a sweep never
+// resumes over the runs of a case that was edited since (16 hex digits, FNV-1a).
+std::string CaseFingerprint(const CaseFile& file);
+
+// One sweep as its pieces see it: the case file (a manifest's base), the plan, the sweep's
+// directory and the case's fingerprint, which DIR/sweep.json and every run.json record.
+struct SweepJob {
+  const CaseFile& file;
+  const SweepPlan& plan;
+  std::string out_dir;
+  std::string fingerprint;  // CaseFingerprint(file)
+};
 
 // The pieces RunSweep is made of, for other ways of distributing runs (MPI ranks):
-// - PlanSweep: the runs of the sweep in `out_dir` (created): complete runs of an earlier
-//   DIR/sweep.json of the same sweep kept (`resumed`), the others pending; InputError as
-//   CheckGrid, for a value that is not finite (naming --values), or naming --out as RunSweep.
-// - PendingRun: run `index` of the grid, not yet traced.
+// - PlanSweep: the runs of the sweep in job.out_dir (created), pending, or `resumed` where an
+//   earlier run of the same sweep left one complete: its folder DIR/<index> holds a run.json
+//   of that run and case, branch.json and branch.csv (a complete run.json there counts even
+//   where sweep.json, rewritten on a schedule, had not caught up). InputError as CheckGrid,
+//   for a value that is not finite (naming --values), and naming --out for a directory that
+//   holds another sweep, a sweep of another case, or a sweep.json that is not a sweep record
+//   (with the field). A kept record whose folder is not its own is traced again, said in
+//   `notes` (one line per run, for the progress stream; null: not said).
+// - PendingRun: run `index` of the plan, not yet traced.
 // - TraceSweepRun: traces one run into DIR/<dir>/ and records it in DIR/<dir>/run.json, with
 //   `threads` for Hill's analyses (TraceOptions::threads).
-// - ReadRunRecord: that record, if the run has one.
+// - ReadRunRecord: that record, if the run has one (InputError naming the file and field if it
+//   is not a run record).
 // - WriteSweepRecord: DIR/sweep.json for these runs; PrintRun: the progress line of a run.
 // - CaseForRun: run `index`'s case and its case-file JSON (InputError if the run's values do
 //   not make a case).
-std::vector<SweepRun> PlanSweep(const SweepPlan& plan, const std::string& out_dir);
+std::vector<SweepRun> PlanSweep(const SweepJob& job, std::vector<std::string>* notes);
 SweepRun PendingRun(const SweepPlan& plan, size_t index);
-SweepRun TraceSweepRun(const CaseFile& file, const SweepPlan& plan, SweepRun run,
-                       const std::string& out_dir, const std::atomic<bool>* stop, int threads);
-std::optional<SweepRun> ReadRunRecord(const std::string& out_dir, const SweepRun& run,
-                                      const SweepPlan& plan);
-void WriteSweepRecord(const std::string& out_dir, const SweepPlan& plan,
-                      const std::vector<SweepRun>& runs);
+SweepRun TraceSweepRun(const SweepJob& job, SweepRun run, const std::atomic<bool>* stop,
+                       int threads);
+std::optional<SweepRun> ReadRunRecord(const SweepJob& job, const SweepRun& run);
+void WriteSweepRecord(const SweepJob& job, const std::vector<SweepRun>& runs);
 void PrintRun(std::ostream* progress, const SweepPlan& plan, const SweepRun& run);
 CaseFile CaseForRun(const CaseFile& file, const SweepPlan& plan, size_t index);
 

@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "tools/output_files.h"
+#include "tools/rewrite_schedule.h"
 
 #ifdef NFRC_HAVE_MPI
 #include <mpi.h>
@@ -58,11 +59,11 @@ std::string Broadcast(const std::string& text, int rank) {
 }
 
 // Rank 0's view: every run's latest record (run.json of the runs traced in this sweep).
-void Refresh(const std::string& out_dir, const SweepPlan& plan, std::vector<SweepRun>* runs) {
+void Refresh(const SweepJob& job, std::vector<SweepRun>* runs) {
   for (SweepRun& run : *runs) {
     // Kept from an earlier sweep, or already final: nothing new can be on disk.
     if (run.resumed || run.status == "complete" || run.status == "failed") continue;
-    if (std::optional<SweepRun> record = ReadRunRecord(out_dir, run, plan)) run = *record;
+    if (std::optional<SweepRun> record = ReadRunRecord(job, run)) run = *record;
   }
 }
 
@@ -85,11 +86,19 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   std::optional<OutputDirectoryLock> lock;
   std::vector<SweepRun> runs;
   std::string failure;  // rank 0's planning error, shared with every rank
+  const SweepJob job{file, plan, out_dir, CaseFingerprint(file)};
+  // Rank 0 rewrites sweep.json from every run's run.json, on the schedule: reading them all
+  // after every run would cost O(runs²) over a large sweep.
+  RewriteSchedule schedule(kSweepRecordInterval);
   if (rank == 0) {
     try {
       lock.emplace(out_dir);
-      runs = PlanSweep(plan, out_dir);
-      WriteSweepRecord(out_dir, plan, runs);
+      std::vector<std::string> notes;
+      runs = PlanSweep(job, &notes);
+      if (progress != nullptr) {
+        for (const std::string& note : notes) *progress << "nfrc: " << note << "\n";
+      }
+      WriteSweepRecord(job, runs);
     } catch (const std::exception& error) {
       failure = error.what();
       if (failure.empty()) failure = "planning the sweep failed";
@@ -143,13 +152,14 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
       }
       if (next >= static_cast<std::int64_t>(todo.size())) break;
       const int k = todo[static_cast<size_t>(next)];
-      SweepRun run =
-          TraceSweepRun(file, plan, PendingRun(plan, static_cast<size_t>(k)), out_dir, stop,
-                        /*threads=*/0);  // ranks share the cores already
+      SweepRun run = TraceSweepRun(job, PendingRun(plan, static_cast<size_t>(k)), stop,
+                                   /*threads=*/0);  // ranks share the cores already
       PrintRun(progress, plan, run);
-      if (rank == 0) {
-        Refresh(out_dir, plan, &runs);
-        WriteSweepRecord(out_dir, plan, runs);
+      if (rank == 0 && schedule.Due(true)) {
+        const auto start = RewriteSchedule::Clock::now();
+        Refresh(job, &runs);
+        WriteSweepRecord(job, runs);
+        schedule.Wrote(start);
       }
     }
   } catch (const std::exception& error) {
@@ -160,8 +170,8 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
   MPI_Barrier(MPI_COMM_WORLD);
   if (window != MPI_WIN_NULL) MPI_Win_free(&window);
   if (rank == 0) {
-    Refresh(out_dir, plan, &runs);
-    WriteSweepRecord(out_dir, plan, runs);
+    Refresh(job, &runs);
+    WriteSweepRecord(job, runs);
   }
   return runs;
 }

@@ -204,9 +204,20 @@ void ValidationWriter::OnBranch(const TraceResult& trace) {
                 {{"enabled", settings_.monodromy.enabled},
                  {"relative_step", settings_.monodromy.relative_step},
                  {"scale", settings_.monodromy.scale}}},
+               {"status", "running"},
+               {"interrupted", false},
                {"points", nlohmann::json::array()}};
   WriteJson();
   if (table_ != nullptr) WriteTableHeader(*table_);
+}
+
+void ValidationWriter::OnEnd(const ValidationResult& result) {
+  if (document_.is_null()) return;  // the trace itself failed: no validation.json was begun
+  document_["status"] = result.interrupted ? "interrupted"
+                        : result.complete  ? "complete"
+                                           : "incomplete";
+  document_["interrupted"] = result.interrupted;
+  WriteJson();
 }
 
 void ValidationWriter::OnTransient(const ValidationPoint& point) {

@@ -16,7 +16,9 @@ namespace nfrc {
 // Writes what a validation (ValidateCase) finds as it finds it: the HBM branch to DIR/hbm/
 // (BranchWriter), DIR/signals_<k>.csv per transient compared with an HBM solution (both on
 // the transient's grid), DIR/chirp_<up|down>.csv, and DIR/validation.json, rewritten after
-// every ω and chirp so a run that stops keeps what was done; and a line per transient to
+// every ω and chirp so a run that stops keeps what was done (an interrupted transient with
+// what it integrated), with its "status" and "interrupted" at the end; and a line per
+// transient to
 // `table`. It only writes: it never solves. Files are created only once the input has passed
 // ValidateCase's checks (OnTraceStart).
 class ValidationWriter : public ValidationObserver {
@@ -32,6 +34,9 @@ class ValidationWriter : public ValidationObserver {
   void OnTransient(const ValidationPoint& point) override;
   void OnPoint(const ValidationPoint& point) override;
   void OnChirp(const ChirpRun& chirp) override;
+  // The final "status" ("complete", "incomplete" or "interrupted"; "running" before) and
+  // "interrupted".
+  void OnEnd(const ValidationResult& result) override;
 
   // validation.json as last written.
   const nlohmann::json& document() const { return document_; }

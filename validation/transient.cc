@@ -59,6 +59,8 @@ const char* ToString(TransientStatus status) {
       return "not_periodic";
     case TransientStatus::kFailed:
       return "failed";
+    case TransientStatus::kInterrupted:
+      return "interrupted";
   }
   return "failed";
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,7 @@ enum class TransientStatus {
   kPeriodic,     // reached a T-periodic steady state
   kNotPeriodic,  // max_periods reached without it (period_multiple says if kT-periodic)
   kFailed,       // the integrator failed (message says why) or max_seconds passed
+  kInterrupted,  // the stop flag was raised (TransientIntegrator::set_stop): ended at a period
 };
 const char* ToString(TransientStatus status);
 
@@ -163,6 +165,10 @@ struct ChirpResult {
 class TransientIntegrator {
  public:
   virtual ~TransientIntegrator() = default;
+  // Raised (a signal handler's flag): a run ends at its next period (or chirp cycle) boundary
+  // with kInterrupted, its last whole period recorded. Null: never.
+  void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
+  bool stop_requested() const { return stop_ != nullptr && stop_->load(); }
   // Integrates the harmonic excitation at ω from `start` until a T-periodic steady state
   // (T = 2π/ω), max_periods or failure; records the last period.
   virtual TransientResult RunToSteadyState(double omega, const InitialState& start) = 0;
@@ -176,6 +182,9 @@ class TransientIntegrator {
   // (validation/monodromy.h).
   virtual bool IntegratePeriods(double omega, const InitialState& start, int periods,
                                 InitialState* end, std::string* message) = 0;
+
+ private:
+  const std::atomic<bool>* stop_ = nullptr;
 };
 
 }  // namespace nfrc

@@ -192,6 +192,10 @@ TransientResult TransientDriver::RunToSteadyState(double omega, const InitialSta
   std::string failure;
   PeriodRecord record;  // the period being integrated; its storage is reused
   for (int p = 1; p <= options_.max_periods; ++p) {
+    if (stop_requested()) {
+      return finish(TransientStatus::kInterrupted,
+                    "interrupted after " + std::to_string(p - 1) + " periods");
+    }
     if (p > 1 && (p - 1) % kQuadratureResetPeriods == 0 && !stepper_->ResetQuadratures()) {
       return finish(TransientStatus::kFailed, stepper_->message());
     }
@@ -227,6 +231,10 @@ bool TransientDriver::IntegratePeriods(double omega, const InitialState& start, 
   }
   const double period = kTwoPi / omega;
   for (int p = 1; p <= periods; ++p) {
+    if (stop_requested()) {
+      *message = "interrupted";
+      return false;
+    }
     if (p > 1 && (p - 1) % kQuadratureResetPeriods == 0 && !stepper_->ResetQuadratures()) {
       *message = stepper_->message();
       return false;
@@ -280,6 +288,10 @@ ChirpResult TransientDriver::RunChirp(const Excitation& chirp, int samples_per_c
     const double t_end =
         PhaseTime(chirp, kTwoPi * k, t_start + kTwoPi / chirp.InstantaneousOmega(t_start));
     if (t_end > chirp.duration) break;
+    if (stop_requested()) {
+      return finish(TransientStatus::kInterrupted,
+                    "interrupted after " + std::to_string(k - 1) + " cycles");
+    }
     if (!stepper_->BeginSegment(t_end)) {
       return finish(TransientStatus::kFailed, stepper_->message());
     }

@@ -2,10 +2,14 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cmath>
 #include <sstream>
 #include <string>
 
+#include "continuation/corrector.h"
+#include "continuation/evaluator.h"
+#include "continuation/scaling.h"
 #include "test_problems.h"
 
 namespace nfrc {
@@ -456,6 +460,69 @@ TEST_CASE("corner fold: located to its bracket, flagged, and the exact turn insi
   CHECK(fold.iterations <= 10);
   // The branch comes back down on the other side of the corner.
   CHECK(branch.points.back().y(0) > 0.0);
+}
+
+// The Duffing balance, raising `stop` at its `raise_at`-th evaluation: a signal arriving in
+// the middle of a Newton correction.
+class StoppingDuffing : public DuffingProblem {
+ public:
+  StoppingDuffing(std::atomic<bool>* stop, int raise_at) : stop_(stop), raise_at_(raise_at) {}
+  bool Evaluate(const Eigen::VectorXd& y, double lambda, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian_y, Eigen::VectorXd* jacobian_lambda) override {
+    if (++evaluations_ == raise_at_) stop_->store(true);
+    return DuffingProblem::Evaluate(y, lambda, residual, jacobian_y, jacobian_lambda);
+  }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  std::atomic<bool>* stop_;
+  int raise_at_;
+  int evaluations_ = 0;
+};
+
+TEST_CASE("stop: a raised flag ends the run within the Newton correction it interrupts") {
+  ContinuationOptions options;
+  options.lambda_start = 0.5;
+  options.lambda_end = 1.6;
+  const Eigen::VectorXd guess = Eigen::Vector2d(DuffingProblem::kForce / 0.75, 0.0);
+  // The whole branch, untouched, for the count of points and evaluations.
+  std::atomic<bool> never{false};
+  StoppingDuffing whole(&never, -1);
+  const Branch full = Continue(whole, guess, options);
+  REQUIRE(full.summary.success());
+
+  for (const int raise_at : {2, 40, 200}) {
+    CAPTURE(raise_at);
+    std::atomic<bool> stop{false};
+    StoppingDuffing problem(&stop, raise_at);
+    ContinuationOptions stopping = options;
+    stopping.stop = &stop;
+    const Branch branch = Continue(problem, guess, stopping);
+    CHECK(branch.summary.reason == TerminationReason::kStoppedByObserver);
+    CHECK(branch.summary.message.find("interrupted") != std::string::npos);
+    CHECK(branch.points.size() < full.points.size());
+    // Once raised, at most the rest of the iteration under way evaluates (its line search:
+    // the full step, 12 halvings, the Jacobian of the one taken and a watchdog step) and the
+    // first linearisation of the fallback correction, which stops before iterating: no further
+    // step. Without the flag inside Newton the run went on to its next point or to the end.
+    constexpr int kRestOfIteration = 16;
+    CHECK(problem.evaluations() <= raise_at + kRestOfIteration + 1);
+  }
+}
+
+TEST_CASE("stop: a correction ends at once, failing with kInterrupted") {
+  DuffingProblem problem;
+  Evaluator evaluator(problem);
+  const Scaling scaling(problem.ScaleGroups(), 1.0, 1e-6);
+  std::atomic<bool> stop{true};
+  NewtonSettings settings;
+  settings.stop = &stop;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(3);
+  u(2) = 1.0;
+  const CorrectorResult result = CorrectAtFixedLambda(evaluator, scaling, settings, u);
+  CHECK_FALSE(result.converged);
+  CHECK(result.failure == kInterrupted);
+  CHECK(result.iterations == 0);
 }
 
 }  // namespace

@@ -32,10 +32,13 @@ TEST_CASE("options: defaults are valid") {
 
 TEST_CASE("options: each invalid field is named in the message") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  // The value given and the bound it breaks are said.
   CHECK(ValidationMessage([](auto& o) { o.min_step = 0.0; }) ==
-        "min_step: must be positive and below max_step");
+        "min_step: must be positive and below max_step (0.05), got 0");
   CHECK(ValidationMessage([](auto& o) { o.min_step = 1.0; }) ==
-        "min_step: must be positive and below max_step");
+        "min_step: must be positive and below max_step (0.05), got 1");
+  CHECK(ValidationMessage([](auto& o) { o.initial_step = 0.0; }) ==
+        "initial_step: must lie in [min_step, max_step] = [1e-07, 0.05], got 0");
   CHECK(ValidationMessage([](auto& o) { o.lambda_end = o.lambda_start; }).rfind("lambda_end:", 0) ==
         0);
   CHECK(ValidationMessage([&](auto& o) { o.lambda_start = nan; }).rfind("lambda_start:", 0) == 0);
@@ -94,7 +97,7 @@ TEST_CASE("options: Continue validates before doing anything") {
   ContinuationOptions options;
   options.step_decrease = 0.0;
   CHECK_THROWS_WITH_AS(Continue(problem, Eigen::VectorXd::Zero(1), options),
-                       "step_decrease: must lie in (0, 1)", std::invalid_argument);
+                       "step_decrease: must lie in (0, 1), got 0", std::invalid_argument);
   options = ContinuationOptions{};
   CHECK_THROWS_AS(Continue(problem, Eigen::VectorXd::Zero(2), options), std::invalid_argument);
 }

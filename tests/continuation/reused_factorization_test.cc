@@ -177,5 +177,22 @@ TEST_CASE("reused factorisation: an update onto a nearly singular system is not 
   }
 }
 
+TEST_CASE("reused factorisation: an overflowing change ends the range finder (no endless loop)") {
+  // A law parameter of 1e300 makes ΔS overflow: the range finder saw a non-finite norm, added
+  // no direction and looped for ever. It must give the update up; the caller then factorises
+  // (and the overflowed system is refused as not regular, or solved, never hung on).
+  Factorised f(13, 20, 60);
+  Eigen::MatrixXd huge = f.a;
+  huge.bottomRows(60).array() *= 1e300;
+  huge.bottomRows(60).array() *= 1e300;  // inf where the entries were non-zero
+  Eigen::VectorXd x;
+  CHECK_FALSE(f.solver->Solve(huge, f.b, &x));
+  // A finite change afterwards is solved again.
+  Eigen::MatrixXd changed = f.a;
+  ChangeRestRows(20, 2, &changed);
+  REQUIRE(f.solver->Solve(changed, f.b, &x));
+  CHECK(RelativeError(x, changed.partialPivLu().solve(f.b)) < kSameSolution);
+}
+
 }  // namespace
 }  // namespace nfrc

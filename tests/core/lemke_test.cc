@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -219,6 +220,21 @@ TEST_CASE("Lemke: ToString names every LemkeStatus") {
   CHECK(ToString(LemkeStatus::kRayTermination) == "ray termination");
   CHECK(ToString(LemkeStatus::kPivotLimit) == "pivot limit");
   CHECK(ToString(LemkeStatus::kSingularBasis) == "singular basis");
+  CHECK(ToString(LemkeStatus::kInterrupted) == "interrupted");
+}
+
+TEST_CASE("Lemke: a raised stop flag ends it before its next pivot") {
+  // M = I, q < 0: the solution z = -q takes one pivot per entry after z0 enters.
+  const Eigen::MatrixXd m = Eigen::MatrixXd::Identity(50, 50);
+  const Eigen::VectorXd q = -Eigen::VectorXd::LinSpaced(50, 1.0, 2.0);
+  REQUIRE(SolveLcp(m, q).ok());
+  std::atomic<bool> stop{true};
+  LemkeOptions options;
+  options.stop = &stop;
+  const LemkeResult r = SolveLcp(m, q, options);
+  CHECK(r.status == LemkeStatus::kInterrupted);
+  CHECK_FALSE(r.ok());
+  CHECK(r.pivots <= 1);  // z0's entry, before the loop polls
 }
 
 TEST_CASE("Lemke: SolveLcp returns the trivial solution when q >= 0") {

@@ -219,5 +219,34 @@ TEST_CASE("Craig-Bampton: bad arguments") {
   CHECK_THROWS_AS(ReduceCraigBampton(free_chain, {19}, options), std::runtime_error);
 }
 
+TEST_CASE(
+    "Craig-Bampton: no interior, an indefinite interior mass and too many checks are refused") {
+  // Every DOF a boundary DOF: nothing to reduce (CHOLMOD was handed an empty K_ii).
+  LinearModel two = Chain(2);
+  for (const int modes : {0, -1}) {
+    CraigBamptonOptions options;
+    options.modes = modes;
+    options.max_frequency = 1e4;
+    CHECK_THROWS_WITH_AS(ReduceCraigBampton(two, {0, 1}, options),
+                         doctest::Contains("no interior to reduce"), std::invalid_argument);
+  }
+  // A negative interior mass: the fixed-interface modes of (K_ii, M_ii) mean nothing.
+  LinearModel negative = Chain(6);
+  negative.mass.coeffRef(3, 3) = -kMass;
+  CraigBamptonOptions two_modes;
+  two_modes.modes = 2;
+  CHECK_THROWS_WITH_AS(ReduceCraigBampton(negative, {5}, two_modes),
+                       doctest::Contains("interior mass M_ii is not positive definite"),
+                       std::runtime_error);
+  // An explicit check of more frequencies than the reduced model has (1 + 2 DOFs).
+  CraigBamptonOptions checks = two_modes;
+  checks.check_frequencies = 4;
+  CHECK_THROWS_WITH_AS(ReduceCraigBampton(Chain(6), {5}, checks),
+                       doctest::Contains("check_frequencies: 4 asked, the reduced model has 3"),
+                       std::invalid_argument);
+  // The default (5) is clipped to the reduced size.
+  CHECK(ReduceCraigBampton(Chain(6), {5}, two_modes).report.eigenfrequencies.size() == 3);
+}
+
 }  // namespace
 }  // namespace nfrc

@@ -6,6 +6,7 @@ bounded time, without a crash. usage: bad_inputs.py NFRC_BINARY SOURCE_DIR"""
 import copy
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -311,6 +312,58 @@ overflow = write("coefficient_1e308.json",
 command("coefficient_1e308", ["run", overflow, "--out", os.path.join(WORK, "out_overflow")],
         EXIT_INCOMPLETE, "not finite", "coefficients")
 
+# --- the hardening round: extremes, reductions, ill-posed models -----------------------------
+case_error("reduction_no_interior_modes_0", DUFFING,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "modes": 0}),
+           "model.reduction", "no interior to reduce")
+case_error("reduction_no_interior_band", DUFFING,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "max_frequency": 10}),
+           "model.reduction", "no interior to reduce")
+case_error("reduction_check_frequencies_above_size", ROD,
+           setitem(["model", "reduction"], {"type": "craig_bampton", "modes": 2,
+                                            "check_frequencies": 5}),
+           "model.reduction.check_frequencies", "reduced model has 3 DOFs")
+# Masses positive on the diagonal, indefinite as matrices (eigenvalues 3 and -1): the reader's
+# diagonal check passes them; the model's and the reduction's checks do not.
+TWO_MASSES = copy.deepcopy(FRICTION)
+TWO_MASSES["model"]["M"] = [[1, 2], [2, 1]]
+case_error("mass_indefinite", TWO_MASSES, setitem(["title"], "indefinite mass"), "model.M",
+           "negative eigenvalue")
+THREE_DOFS = {"model": {"type": "matrices", "M": [[1, 2, 0], [2, 1, 0], [0, 0, 1]],
+                        "K": [[2, -1, 0], [-1, 2, -1], [0, -1, 1]],
+                        "C": [[0.02, 0, 0], [0, 0.02, 0], [0, 0, 0.02]],
+                        "forcing": [{"dof": 2, "cos": 0.1}],
+                        "reduction": {"type": "craig_bampton", "modes": 1}},
+              "nonlinearities": [{"type": "cubic_spring", "dof": 2, "coefficient": 0.1}],
+              "harmonics": {"max": 3}, "continuation": {"omega_start": 0.2, "omega_end": 2},
+              "output": {"dofs": [2]}}
+case_error("mass_indefinite_interior", THREE_DOFS, setitem(["title"], "indefinite M_ii"),
+           "model.reduction", "interior mass M_ii is not positive definite")
+case_error("equality_contact_rho_1e300", EQUALITY, setitem(["nonlinearities", 0, "rho"], 1e300),
+           "nonlinearities[0].rho", "useful range")
+case_error("dlft_friction_epsilon_1e-300", DLFT_FRICTION,
+           setitem(["nonlinearities", 0, "epsilon"], 1e-300), "nonlinearities[0].epsilon",
+           "useful range")
+case_error("jenkins_mu_normal_load_overflow", JENKINS,
+           lambda c: c["nonlinearities"][0].update({"mu": 1e300, "normal_load": 1e300}),
+           "nonlinearities[0].normal_load", "overflows")
+case_error("lemke_omega_end_9e18", load("lcp/rigid_stepping_nt41.json"),
+           setitem(["continuation", "omega_end"], 9.2e18), "continuation.omega_end",
+           "frequency scale")
+case_error("modal_ratio_7e297", ROD, setitem(["model", "damping"], {"modal_ratio": 7.5e297}),
+           "model.damping.modal_ratio", "[0, 10]")
+case_error("step_zero", DUFFING, setitem(["continuation", "step"], 0), "continuation.step:",
+           "got 0")
+case_error("signals_at_outside_range", DUFFING, setitem(["output", "signals_at"], [5.0]),
+           "output.signals_at", "outside the traced range")
+command("lemke_stepping_with_dlft_names_file",
+        ["run", os.path.join(SRC, "tests/tools/data/stepping_dlft.json"), "--out",
+         os.path.join(WORK, "out_stepping_dlft")], EXIT_INPUT, "stepping_dlft.json",
+        "nonlinearities[0]")
+command("singular_model_names_file",
+        ["run", os.path.join(SRC, "tests/tools/data/singular.json"), "--out",
+         os.path.join(WORK, "out_singular")], EXIT_INPUT, "singular.json", "model")
+
 # --- the command line -----------------------------------------------------------------------
 duffing = os.path.join(SRC, "cases", "duffing.json")
 rod = os.path.join(SRC, "cases", "rod", "rigid_nh20.json")
@@ -399,6 +452,57 @@ command("sweep_grid_bad_second_path", ["sweep", duffing, "--out", out, "--parame
                                        "--values", "0.1", "--parameter", "model.mass", "--values",
                                        "0.1"], EXIT_INPUT, "model.mass")
 command("plot_measure_volume", ["plot", out, "--measure", "volume"], EXIT_USAGE, "--measure")
+command("fold_curve_parameter_named_as_option",
+        ["fold-curve", duffing, "--out", out, "--parameter", "model.forcing", "--to", "0.1"],
+        EXIT_INPUT, "--parameter:", "model.forcing")
+command("fold_curve_to_named_as_option",
+        ["fold-curve", duffing, "--out", out, "--parameter", FORCE, "--to", "0.18"],
+        EXIT_INPUT, "--to:")
+command("fold_curve_to_1e308", ["fold-curve", duffing, "--out", out, "--parameter", FORCE,
+                                "--to", "1e308"], EXIT_INPUT, "--to:", "in stages")
+command("peak_curve_to_1e308", ["fold-curve", duffing, "--out", out, "--kind", "peak",
+                                "--parameter", FORCE, "--to", "1e308"], EXIT_INPUT, "--to:",
+        "in stages")
+command("refine_omega_named_as_option",
+        ["refine", rod, "--out", out, "--omega", "1e6", "--epsilon0", "1e9"], EXIT_INPUT,
+        "--omega:", "range")
+
+# sweep.json of the wrong types in a directory that holds this very sweep (exit 1, the file and
+# the field), and a directory in its place.
+SWEEP_DIR = os.path.join(WORK, "sweep_record")
+SWEEP_ARGS = ["sweep", os.path.join(SRC, "cases", "duffing_h1.json"), "--parameter", FORCE,
+              "--values", "0.05"]
+subprocess.run([NFRC] + SWEEP_ARGS + ["--out", SWEEP_DIR], capture_output=True, timeout=TIMEOUT_S)
+with open(os.path.join(SWEEP_DIR, "sweep.json")) as f:
+    GOOD_RECORD = json.load(f)
+
+
+def bad_record(name, edit, *needles):
+    folder = os.path.join(WORK, "sweep_record_" + name)
+    shutil.copytree(SWEEP_DIR, folder)
+    record = copy.deepcopy(GOOD_RECORD)
+    edit(record)
+    with open(os.path.join(folder, "sweep.json"), "w") as f:
+        json.dump(record, f)
+    command("sweep_record_" + name, SWEEP_ARGS + ["--out", folder], EXIT_INPUT,
+            os.path.join(folder, "sweep.json"), *needles)
+
+
+bad_record("index_string", lambda r: r["runs"][0].update({"index": "zero"}), "runs[0].index")
+bad_record("runs_number", lambda r: r.update({"runs": 5}), "runs")
+bad_record("peaks_list", lambda r: r["runs"][0].update({"peaks": [1]}), "runs[0].peaks")
+bad_record("status_unknown", lambda r: r["runs"][0].update({"status": "done"}), "runs[0].status")
+SWEEP_DIR_RECORD_DIR = os.path.join(WORK, "sweep_record_is_directory")
+os.makedirs(os.path.join(SWEEP_DIR_RECORD_DIR, "sweep.json"))
+command("sweep_record_is_directory", SWEEP_ARGS + ["--out", SWEEP_DIR_RECORD_DIR], EXIT_INPUT,
+        "sweep.json", "is a directory")
+EDITED = edited(load("duffing_h1.json"), setitem(["nonlinearities", 0, "coefficient"], 5))
+command("sweep_resumed_on_another_case",
+        ["sweep", write("duffing_k3_5.json", EDITED), "--parameter", FORCE, "--values", "0.05",
+         "--out", SWEEP_DIR], EXIT_INPUT, "--out", "of another case")
+command("run_into_a_sweep_run_folder",
+        ["run", duffing, "--out", os.path.join(SWEEP_DIR, "0")], EXIT_INPUT, "--out",
+        "run folder of a sweep")
 
 
 def run(name, argv, code, needles):

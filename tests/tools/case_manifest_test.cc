@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "core/errors.h"
 #include "support/duffing_peak.h"
@@ -140,7 +142,7 @@ TEST_CASE("manifest: nfrc sweep of a manifest traces every variant, and resumes"
   const SweepPlan plan(manifest);
   SweepOptions options;
   options.jobs = 2;
-  const std::vector<SweepRun> runs = RunSweep(base, plan, dir, options);
+  const std::vector<SweepRun> runs = RunSweep(base, plan, dir, options).runs;
   REQUIRE(runs.size() == 3);
   // As sweep_test.cc: the branch's largest point lies below the true peak by at most the
   // curve's drop over half a step (1e-3 relative), never above it.
@@ -163,11 +165,105 @@ TEST_CASE("manifest: nfrc sweep of a manifest traces every variant, and resumes"
   CHECK(record["runs"][1]["name"] == "c0.1");
   CHECK(record["runs"][1]["values"] == nlohmann::json{{"model.C[0][0]", 0.1}});
   CHECK_FALSE(record.contains("parameters"));
-  const std::vector<SweepRun> again = RunSweep(base, plan, dir, options);
+  const std::vector<SweepRun> again = RunSweep(base, plan, dir, options).runs;
   for (const SweepRun& run : again) CHECK(run.resumed);
   // Another sweep in the same directory is refused.
   CHECK_THROWS_WITH_AS(RunSweep(base, SweepGrid{{"model.C[0][0]", {0.1}}}, dir, options),
                        doctest::Contains("holds another sweep"), InputError);
+}
+
+// What ApplyFieldChange says of `changes` applied in order to a copy of `source`: "" where
+// every change applies, else its message (the independent reference of CheckFieldChanges).
+std::string ApplyMessage(const nlohmann::json& source, const std::vector<FieldChange>& changes) {
+  nlohmann::json copy = source;
+  try {
+    for (const FieldChange& change : changes) {
+      ApplyFieldChange(&copy, change, "variant: set: " + change.path);
+    }
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+std::string CheckMessage(const nlohmann::json& source, const std::vector<FieldChange>& changes) {
+  try {
+    CheckFieldChanges(source, changes, "variant: set");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST_CASE("manifest: CheckFieldChanges says what applying the changes in order would") {
+  const nlohmann::json source = {{"model", {{"M", {{1.0, 0.0}, {0.0, 2.0}}}, {"damping", 0.1}}},
+                                 {"harmonics", {{"max", 3}}},
+                                 {"list", {1, 2, 3}}};
+  const nlohmann::json object = {{"a", {{"b", 1}}}};
+  const std::vector<std::vector<FieldChange>> sequences = {
+      {{"model.M[1][1]", 0.5}},
+      {{"model.M[2][0]", 0.5}},
+      {{"harmonics.samples", 64}},
+      {{"harmonics.samples.x", 64}},
+      {{"harmonics.new", object}, {"harmonics.new.a.b", 2}},
+      {{"harmonics.new", object}, {"harmonics.new.a.c", 2}},
+      {{"harmonics.new", object}, {"harmonics.new.z.c", 2}},
+      {{"harmonics.new", object}, {"harmonics", 5}, {"harmonics.new.a", 2}},
+      {{"harmonics.new", object}, {"harmonics.new", nullptr}, {"harmonics.new.a", 2}},
+      {{"harmonics.max", nullptr}, {"harmonics.max", 4}},
+      {{"model.damping", object}, {"model.damping.a.b", 3}},
+      {{"model.damping", 0.2}, {"model.damping.x", 3}},
+      {{"list[1]", nullptr}},
+      {{"list[1]", object}, {"list[1].a.b", 7}},
+      {{"list[3]", 1}},
+      {{"list", nlohmann::json::array({1})}, {"list[0]", 2}, {"list[1]", 2}},
+      {{"model..M", 1}},
+      {{"model.M[0][0][0]", 1}},
+      {{"", 1}},
+  };
+  for (const std::vector<FieldChange>& changes : sequences) {
+    std::string paths;
+    for (const FieldChange& change : changes)
+      paths += change.path + " = " + change.value.dump() + "; ";
+    CAPTURE(paths);
+    CHECK(CheckMessage(source, changes) == ApplyMessage(source, changes));
+  }
+}
+
+TEST_CASE("manifest: a grid of 10 000 members is read without building them") {
+  // A base of 200 kB: building every member copied it 10 000 times (2 GB); reading the
+  // manifest checks each member's paths without a copy and builds only the member asked for
+  // (tests/tools/hardening.py compares the time with the base's own).
+  nlohmann::json base;
+  {
+    std::ifstream in(kCases + "/duffing_h1.json");
+    base = nlohmann::json::parse(in);
+  }
+  base["title"] = std::string(200000, 'x');  // bulk that every copy of the base carries
+  const auto dir = std::filesystem::temp_directory_path() / "nfrc_manifest_grid";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "base.json") << base.dump();
+  std::vector<double> forces(100), dampings(100);
+  for (int i = 0; i < 100; ++i) {
+    forces[i] = 0.01 * (i + 1);
+    dampings[i] = 0.05 + 0.001 * i;
+  }
+  const nlohmann::json manifest = {{"manifest", "10 000 members"},
+                                   {"base", (dir / "base.json").string()},
+                                   {"parameters",
+                                    {{{"path", "model.forcing[0].cos"}, {"values", forces}},
+                                     {{"path", "model.C[0][0]"}, {"values", dampings}}}}};
+  const std::string path = WriteManifest("grid_10000", manifest);
+  const CaseManifest read = ReadManifest(path);
+  REQUIRE(read.variants.size() == 10000);
+  const CaseFile member = ReadCaseFile(path + "#9999");
+  CHECK(member.source["model"]["forcing"][0]["cos"] == 1.0);
+  CHECK(member.source["model"]["C"][0][0] == doctest::Approx(0.149));
+  // A bad path in the grid is still named, from the first member on.
+  nlohmann::json bad = manifest;
+  bad["parameters"][1]["path"] = "model.C[3][0]";
+  CHECK_THROWS_WITH_AS(ReadManifest(WriteManifest("grid_bad", bad)),
+                       doctest::Contains("variant \"0\": set: model.C[3][0]"), InputError);
 }
 
 }  // namespace

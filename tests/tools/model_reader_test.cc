@@ -9,17 +9,17 @@
 #include <filesystem>
 #include <fstream>
 
-#include "tools/input_fields.h"
 #include "models/damping.h"
 #include "models/matrix_market.h"
+#include "tools/input_fields.h"
 
 namespace nfrc {
 namespace {
 
 std::string TempDir() {
   // One directory per process: ctest runs test cases of this file in parallel.
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("nfrc_models_test_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("nfrc_models_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir.string();
 }
@@ -40,9 +40,10 @@ std::string BuildError(const std::string& text) {
 }
 
 TEST_CASE("Matrix Market: coordinate general, coordinate symmetric and array formats") {
-  const auto general = ReadMatrixMarket(WriteFile(
-      "g.mtx", "%%MatrixMarket matrix coordinate real general\n% comment\n2 2 3\n1 1 4\n2 1 -1\n"
-               "2 2 5.5\n"));
+  const auto general = ReadMatrixMarket(
+      WriteFile("g.mtx",
+                "%%MatrixMarket matrix coordinate real general\n% comment\n2 2 3\n1 1 4\n2 1 -1\n"
+                "2 2 5.5\n"));
   CHECK(general.coeff(0, 0) == 4.0);
   CHECK(general.coeff(1, 0) == -1.0);
   CHECK(general.coeff(0, 1) == 0.0);
@@ -66,8 +67,8 @@ TEST_CASE("Matrix Market: errors name the file and line") {
     return std::string("no error");
   };
   CHECK(error(TempDir() + "/missing.mtx").find("missing.mtx: cannot open") != std::string::npos);
-  const std::string truncated = WriteFile(
-      "t.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 4\n");
+  const std::string truncated =
+      WriteFile("t.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 4\n");
   CHECK(error(truncated).find("t.mtx:3: file ends after 1 of 3 entries") != std::string::npos);
   const std::string complex =
       WriteFile("c.mtx", "%%MatrixMarket matrix coordinate complex general\n1 1 1\n1 1 1 0\n");
@@ -78,14 +79,15 @@ TEST_CASE("Matrix Market: errors name the file and line") {
 }
 
 TEST_CASE("matrices model: inline, from files, with named DOFs and forcing") {
-  WriteFile("k.mtx", "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2\n2 1 -1\n"
-                     "2 2 2\n");
+  WriteFile("k.mtx",
+            "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2\n2 1 -1\n"
+            "2 2 2\n");
   const ModelDefinition definition = BuildModel(nlohmann::json::parse(R"({
       "type": "matrices", "M": [[1, 0], [0, 2]], "K": "k.mtx",
       "damping": {"rayleigh": {"mass": 0.1, "stiffness": 0.01}},
       "dof_names": ["root", "tip"],
       "forcing": [{"dof": "tip", "cos": 3, "sin": -1, "harmonic": 2}]})"),
-                                                 TempDir());
+                                                TempDir());
   CHECK(definition.model.num_dofs() == 2);
   CHECK(definition.model.stiffness.coeff(0, 1) == -1.0);
   CHECK(definition.model.damping.coeff(1, 1) == doctest::Approx(0.1 * 2 + 0.01 * 2));
@@ -99,9 +101,8 @@ TEST_CASE("modal damping gives ratio ζ in every mode (analytic modes of a 2-DOF
   // M = I, K = [[2, -1], [-1, 2]]: modes (1, 1)/√2 at ω = 1 and (1, −1)/√2 at ω = √3.
   const Eigen::MatrixXd k{{2, -1}, {-1, 2}};
   const double zeta = 0.03;
-  const Eigen::MatrixXd c =
-      Eigen::MatrixXd(ModalDamping(Eigen::MatrixXd::Identity(2, 2).sparseView(), k.sparseView(),
-                                   zeta));
+  const Eigen::MatrixXd c = Eigen::MatrixXd(
+      ModalDamping(Eigen::MatrixXd::Identity(2, 2).sparseView(), k.sparseView(), zeta));
   const Eigen::Vector2d phi1(1 / std::sqrt(2.0), 1 / std::sqrt(2.0));
   const Eigen::Vector2d phi2(1 / std::sqrt(2.0), -1 / std::sqrt(2.0));
   CHECK(phi1.dot(c * phi1) == doctest::Approx(2 * zeta * 1.0).epsilon(1e-12));
@@ -129,7 +130,7 @@ TEST_CASE("bad model objects name the field") {
         "model.type: unknown model type \"beam\"");
   CHECK(BuildError(R"({"type": "matrices", "M": [[1]], "K": [[1]], "forcing": [],
                        "damping": {"modal_ratio": -0.1}})") ==
-        "model.damping.modal_ratio: must be non-negative");
+        "model.damping.modal_ratio: must lie in [0, 10] (1 is critical damping), got -0.1");
   // Refused before any eigenproblem: the message names the field and the size.
   CHECK(BuildError(R"({"type": "rod", "elements": 1001, "length": 1, "area": 1, "young": 1,
                        "density": 1, "damping": {"modal_ratio": 0.01}, "forcing": []})")
@@ -139,8 +140,8 @@ TEST_CASE("bad model objects name the field") {
 
 // Undamped eigenfrequencies (rad/s) of a model.
 Eigen::VectorXd Eigenfrequencies(const LinearModel& model) {
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(
-      Eigen::MatrixXd(model.stiffness), Eigen::MatrixXd(model.mass));
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(Eigen::MatrixXd(model.stiffness),
+                                                                   Eigen::MatrixXd(model.mass));
   return solver.eigenvalues().cwiseSqrt();
 }
 
@@ -158,10 +159,10 @@ TEST_CASE("rod case-file object: names, damping, forcing and errors") {
   // mode 1, |x_end| ≈ F φ_end² / (2ζ ω0²) with φ mass-normalised; cases.md: 5.36e-4 m.
   const auto& model = definition.model;
   const double omega0 = Eigenfrequencies(model)(0);
-  const Eigen::MatrixXcd z = Eigen::MatrixXcd(Eigen::MatrixXd(model.stiffness)) -
-                             omega0 * omega0 * Eigen::MatrixXcd(Eigen::MatrixXd(model.mass)) +
-                             std::complex<double>(0, omega0) *
-                                 Eigen::MatrixXcd(Eigen::MatrixXd(model.damping));
+  const Eigen::MatrixXcd z =
+      Eigen::MatrixXcd(Eigen::MatrixXd(model.stiffness)) -
+      omega0 * omega0 * Eigen::MatrixXcd(Eigen::MatrixXd(model.mass)) +
+      std::complex<double>(0, omega0) * Eigen::MatrixXcd(Eigen::MatrixXd(model.damping));
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(20);
   f(19) = 25e3;
   const Eigen::VectorXcd x = z.partialPivLu().solve(f);

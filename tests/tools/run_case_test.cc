@@ -2,12 +2,15 @@
 
 #include <doctest/doctest.h>
 
-#include "tools/case_file.h"
-#include "tools/validation_reader.h"
-
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+
+#include "tools/case_file.h"
+#include "tools/validation_reader.h"
 
 namespace nfrc {
 namespace {
@@ -63,16 +66,50 @@ TEST_CASE("nfrc run writes branch.json with points, folds and summary, and measu
   CHECK(lines == static_cast<int>(branch.points.size()) + 1);
 }
 
+// A progress stream that raises `stop` once it has been told of point `point`: a SIGINT
+// arriving while the run computes the next one.
+class StopAtPoint : public std::stringbuf {
+ public:
+  StopAtPoint(std::atomic<bool>* stop, int point)
+      : stop_(stop), text_("point " + std::to_string(point) + " ") {}
+
+ protected:
+  int sync() override {
+    if (str().find(text_) != std::string::npos) stop_->store(true);
+    return 0;
+  }
+
+ private:
+  std::atomic<bool>* stop_;
+  std::string text_;
+};
+
 TEST_CASE("a run stopped part-way keeps its points on disk and says why") {
   Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
   const std::string dir = OutDir("stopped");
-  const std::atomic<bool> stop{true};  // as if SIGINT arrived during the first point
-  const Branch branch = RunCase(the_case, dir, nullptr, &stop);
+  std::atomic<bool> stop{false};
+  StopAtPoint watch(&stop, 3);
+  std::ostream progress(&watch);
+  progress << std::unitbuf;  // every line reaches sync() at once
+  const Branch branch = RunCase(the_case, dir, &progress, &stop);
   CHECK(branch.summary.reason == TerminationReason::kStoppedByObserver);
   const nlohmann::json doc = ReadJson(dir + "/branch.json");
-  CHECK(doc["points"].size() == 1);
+  // Points 0..3 were found when the flag rose; the engine stops within the next step.
+  CHECK(doc["points"].size() >= 4);
+  CHECK(doc["points"].size() <= 5);
   CHECK(doc["summary"]["termination"] == ToString(TerminationReason::kStoppedByObserver));
   CHECK(doc["summary"]["message"].get<std::string>().find("interrupted") != std::string::npos);
+}
+
+TEST_CASE("a run whose stop came before its first point says so and writes no point") {
+  Case the_case = LoadCase(std::string(NFRC_SOURCE_DIR) + "/cases/duffing.json");
+  const std::string dir = OutDir("stopped_at_start");
+  const std::atomic<bool> stop{true};
+  const Branch branch = RunCase(the_case, dir, nullptr, &stop);
+  CHECK(branch.summary.reason == TerminationReason::kStoppedByObserver);
+  CHECK(branch.summary.message.find("interrupted before the first point") != std::string::npos);
+  const nlohmann::json doc = ReadJson(dir + "/branch.json");
+  CHECK(doc["points"].empty());
 }
 
 }  // namespace
