@@ -60,7 +60,7 @@ class LemkeSolver {
     max_pivots_ = options.max_pivots > 0 ? options.max_pivots : 50 * n_ + 1000;
     w_position_.assign(n_, -1);
     free_index_.assign(n_, -1);
-    y_.resize(n_, 0);  // n rows from the start: y_.row(p).head(0) is then valid
+    y_.resize(n_, 0);  // n rows from the start; empty until a column is stored
   }
 
   LemkeResult Solve() {
@@ -348,7 +348,9 @@ class LemkeSolver {
     const double pivot = column(row);
     const int leaving = basic_[row];
     int k = NumFree();
-    const Eigen::RowVectorXd pivot_row = y_.row(row).head(k) / pivot;
+    // No stored column yet: a row view of the empty y_ would offset its null data pointer.
+    const Eigen::RowVectorXd pivot_row =
+        k > 0 ? Eigen::RowVectorXd(y_.row(row).head(k) / pivot) : Eigen::RowVectorXd();
     overflow_ =
         !(pivot_row.allFinite() && std::isfinite(x_(row) / pivot) && std::isfinite(1.0 / pivot));
     Eigen::VectorXd eta = column;

@@ -99,6 +99,36 @@ std::string NegativelyDampedModes(const LinearModel& model) {
   return list;
 }
 
+// The exponents s of the linear structure alone (M s² + C s + K) x = 0 with a positive real
+// part, as a warning; empty where there is none or M is singular (massless DOFs).
+std::string UnstableExponents(const LinearModel& model) {
+  const Eigen::Index n = model.num_dofs();
+  const Eigen::MatrixXd m = Eigen::MatrixXd(model.mass);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(m);
+  if (!(std::abs(lu.determinant()) > 0.0) || lu.rcond() < kDefinitenessTolerance) return "";
+  Eigen::MatrixXd state = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  state.topRightCorner(n, n).setIdentity();
+  state.bottomLeftCorner(n, n) = -lu.solve(Eigen::MatrixXd(model.stiffness));
+  state.bottomRightCorner(n, n) = -lu.solve(Eigen::MatrixXd(model.damping));
+  const Eigen::EigenSolver<Eigen::MatrixXd> solver(state, /*computeEigenvectors=*/false);
+  if (solver.info() != Eigen::Success) return "";
+  const Eigen::VectorXcd exponents = solver.eigenvalues();
+  const double scale = exponents.cwiseAbs().maxCoeff();
+  int growing = 0;
+  double fastest = 0.0;
+  for (Eigen::Index i = 0; i < exponents.size(); ++i) {
+    if (exponents(i).real() > kDefinitenessTolerance * scale) {
+      ++growing;
+      fastest = std::max(fastest, exponents(i).real());
+    }
+  }
+  if (growing == 0) return "";
+  return "model: the linear structure alone (without the laws) is unstable: " +
+         std::to_string(growing) + " exponent" + (growing == 1 ? "" : "s") +
+         " of M s^2 + C s + K with a positive real part (the largest growth rate " + Text(fastest) +
+         " per time unit); unless the laws stabilise it, every point is unstable";
+}
+
 }  // namespace
 
 ModelCheck CheckLinearModel(const LinearModel& model) {
@@ -138,6 +168,10 @@ ModelCheck CheckLinearModel(const LinearModel& model) {
       }
       check.warnings.push_back(warning + "; unstable points may be its, not the laws'");
     }
+  }
+  if (model.num_dofs() <= kStateCheckDofs && mass && mass->negative == 0) {
+    const std::string unstable = UnstableExponents(model);
+    if (!unstable.empty()) check.warnings.push_back(unstable);
   }
   return check;
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -52,6 +53,10 @@ struct CaseManifest {
 bool IsManifest(const nlohmann::json& document);
 // Throws InputError naming the manifest file and the field.
 CaseManifest ParseManifest(const nlohmann::json& document, const std::string& path);
+// The same with the base case's JSON from `read_base` (given the base's resolved path) instead
+// of its file: for a fuzzer, which reads no file.
+CaseManifest ParseManifest(const nlohmann::json& document, const std::string& path,
+                           const std::function<nlohmann::json(const std::string&)>& read_base);
 CaseManifest ReadManifest(const std::string& path);
 // The members' names joined by ", " (for messages listing them).
 std::string MemberNames(const CaseManifest& manifest);

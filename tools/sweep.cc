@@ -172,65 +172,32 @@ struct PreviousRuns {
 
 PreviousRuns Previous(const SweepJob& job) {
   PreviousRuns previous;
-  std::vector<SweepRun>& kept = previous.kept;
   const std::string path = job.out_dir + "/sweep.json";
   std::error_code error;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) return previous;
-  const nlohmann::json old = ReadRecordFile(path);
-  if (!old.is_object()) {
-    throw InputError("--out: " + path + ": expected an object (a sweep record)");
-  }
-  // A record written before grids has only the one-parameter "parameter" and "values".
-  nlohmann::json identity = nlohmann::json::object();
-  if (old.contains("manifest")) {
-    identity["manifest"] = old["manifest"];
-    identity["variants"] = old.value("variants", nlohmann::json());
-  } else if (old.contains("parameters")) {
-    identity["parameters"] = old["parameters"];
-  } else {
-    identity["parameters"] =
-        nlohmann::json::array({{{"path", old.value("parameter", nlohmann::json())},
-                                {"values", old.value("values", nlohmann::json())}}});
-  }
-  if (identity != job.plan.Record()) {
-    throw InputError("--out: " + path + " holds another sweep (parameters or values differ)");
-  }
-  const nlohmann::json* recorded =
-      old.contains("case_fingerprint") ? &old["case_fingerprint"] : nullptr;
-  if (recorded != nullptr && *recorded != job.fingerprint) {
-    throw InputError("--out: " + path +
-                     " holds this sweep of another case (the case file, or a "
-                     "file it names, changed since: case fingerprint " +
-                     (recorded->is_string() ? recorded->get<std::string>() : recorded->dump()) +
-                     ", now " + job.fingerprint +
-                     "): give another --out, or remove the directory to start over");
-  }
-  if (!old.contains("runs")) return previous;
-  const nlohmann::json& runs = old["runs"];
-  if (!runs.is_array()) throw InputError("--out: " + path + ": runs: expected a list of runs");
-  std::vector<SweepRun> records;
-  for (size_t k = 0; k < runs.size(); ++k) {
-    try {
-      records.push_back(RunFromJson(runs[k], job.plan, "runs[" + std::to_string(k) + "]"));
-    } catch (const InputError& bad) {
-      throw InputError("--out: " + path + ": " + bad.what());
-    }
-  }
-  if (recorded == nullptr) {
+  SweepRecord record = ParseSweepRecord(ReadRecordFile(path), job.plan, path);
+  if (!record.fingerprint) {
     previous.note = path +
                     " records no case fingerprint (an earlier nfrc wrote it): every run "
                     "is traced again";
     return previous;
   }
-  for (SweepRun& record : records) {
-    if (record.status != "complete") continue;
-    const std::string why = NotKept(job, record);
+  if (*record.fingerprint != job.fingerprint) {
+    throw InputError("--out: " + path +
+                     " holds this sweep of another case (the case file, or a file it names, "
+                     "changed since: case fingerprint " +
+                     *record.fingerprint + ", now " + job.fingerprint +
+                     "): give another --out, or remove the directory to start over");
+  }
+  for (SweepRun& run : record.runs) {
+    if (run.status != "complete") continue;
+    const std::string why = NotKept(job, run);
     if (!why.empty()) {
-      previous.refused.emplace_back(record.index, why);
+      previous.refused.emplace_back(run.index, why);
       continue;
     }
-    record.resumed = true;
-    kept.push_back(std::move(record));
+    run.resumed = true;
+    previous.kept.push_back(std::move(run));
   }
   return previous;
 }
@@ -396,6 +363,44 @@ SweepRun PendingRun(const SweepPlan& plan, size_t index) {
   }
   run.dir = std::to_string(index);
   return run;
+}
+
+SweepRecord ParseSweepRecord(const nlohmann::json& old, const SweepPlan& plan,
+                             const std::string& path) {
+  const std::string named = "--out: " + path;
+  if (!old.is_object()) throw InputError(named + ": expected an object (a sweep record)");
+  // A record written before grids has only the one-parameter "parameter" and "values".
+  nlohmann::json identity = nlohmann::json::object();
+  if (old.contains("manifest")) {
+    identity["manifest"] = old["manifest"];
+    identity["variants"] = old.value("variants", nlohmann::json());
+  } else if (old.contains("parameters")) {
+    identity["parameters"] = old["parameters"];
+  } else {
+    identity["parameters"] =
+        nlohmann::json::array({{{"path", old.value("parameter", nlohmann::json())},
+                                {"values", old.value("values", nlohmann::json())}}});
+  }
+  if (identity != plan.Record()) {
+    throw InputError(named + " holds another sweep (parameters or values differ)");
+  }
+  SweepRecord record;
+  if (old.contains("case_fingerprint")) {
+    const nlohmann::json& fingerprint = old["case_fingerprint"];
+    if (!fingerprint.is_string()) throw InputError(named + ": case_fingerprint: expected a string");
+    record.fingerprint = fingerprint.get<std::string>();
+  }
+  if (!old.contains("runs")) return record;
+  const nlohmann::json& runs = old["runs"];
+  if (!runs.is_array()) throw InputError(named + ": runs: expected a list of runs");
+  for (size_t k = 0; k < runs.size(); ++k) {
+    try {
+      record.runs.push_back(RunFromJson(runs[k], plan, "runs[" + std::to_string(k) + "]"));
+    } catch (const InputError& bad) {
+      throw InputError(named + ": " + bad.what());
+    }
+  }
+  return record;
 }
 
 std::string CaseFingerprint(const CaseFile& file) {

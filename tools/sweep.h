@@ -136,6 +136,16 @@ SweepResult RunSweep(const CaseFile& file, const CaseParameter& parameter,
 // resumes over the runs of a case that was edited since (16 hex digits, FNV-1a).
 std::string CaseFingerprint(const CaseFile& file);
 
+// What a sweep.json (`record`, as read from `path`) holds for `plan`: its case fingerprint
+// (none in a record an earlier nfrc wrote) and its runs, each field checked for its type.
+// InputError naming --out, the file and the field where it is not a record of `plan`.
+struct SweepRecord {
+  std::optional<std::string> fingerprint;
+  std::vector<SweepRun> runs;
+};
+SweepRecord ParseSweepRecord(const nlohmann::json& record, const SweepPlan& plan,
+                             const std::string& path);
+
 // One sweep as its pieces see it: the case file (a manifest's base), the plan, the sweep's
 // directory and the case's fingerprint, which DIR/sweep.json and every run.json record.
 struct SweepJob {

@@ -39,7 +39,8 @@ Eigen::MatrixXd BlockMatrix(int m, int rest, unsigned seed, EliminationBlocks* b
 
 TEST_CASE("block elimination: equals the dense solve of a block-structured system") {
   // 240 other unknowns: the Schur complement goes to LAPACK (DenseLu::kLapackMinSize).
-  for (const auto& [m, rest] : {std::pair{5, 10}, {30, 30}, {1, 3}, {20, 240}}) {
+  for (const std::pair<int, int>& sizes : {std::pair{5, 10}, {30, 30}, {1, 3}, {20, 240}}) {
+    const int m = sizes.first, rest = sizes.second;  // INFO captures: no structured bindings
     INFO(m << " blocks, " << rest << " other unknowns");
     EliminationBlocks blocks;
     const Eigen::MatrixXd a = BlockMatrix(m, rest, 7u + m, &blocks);
@@ -57,7 +58,8 @@ TEST_CASE("block elimination: equals the dense solve of a block-structured syste
 TEST_CASE("block elimination: the determinant's sign is the whole matrix's") {
   int negative = 0, positive = 0;
   for (unsigned seed = 1; seed <= 12; ++seed) {
-    for (const auto& [m, rest] : {std::pair{5, 10}, {12, 7}, {1, 3}, {6, 220}}) {
+    for (const std::pair<int, int>& sizes : {std::pair{5, 10}, {12, 7}, {1, 3}, {6, 220}}) {
+      const int m = sizes.first, rest = sizes.second;
       INFO("seed " << seed << ", " << m << " blocks, " << rest << " other unknowns");
       EliminationBlocks blocks;
       Eigen::MatrixXd a = BlockMatrix(m, rest, seed, &blocks);
@@ -106,8 +108,10 @@ Eigen::VectorXd SolveWith(const BlockElimination& elimination, const Eigen::Matr
 // has the last one's structure, another one, or follows a singular block.
 TEST_CASE("block elimination: refactored in place, bit for bit a fresh factorisation") {
   BlockElimination reused;
-  for (const auto& [m, rest, seed] :
+  for (const std::tuple<int, int, unsigned>& sizes :
        {std::tuple{5, 10, 1u}, {5, 10, 2u}, {8, 12, 3u}, {8, 12, 0u}, {2, 30, 4u}, {5, 10, 1u}}) {
+    const int m = std::get<0>(sizes), rest = std::get<1>(sizes);
+    const unsigned seed = std::get<2>(sizes);
     INFO(m << " blocks, " << rest << " other unknowns, seed " << seed);
     EliminationBlocks blocks;
     Eigen::MatrixXd a = BlockMatrix(m, rest, seed == 0 ? 9u : seed, &blocks);

@@ -80,7 +80,10 @@ TEST_CASE("dense LU: the determinant's sign of permuted diagonal matrices") {
       {{{0, 3}, {1, 5, 2}}, -1},
       {{{6, 0}}, -1},
   };
-  for (const auto& [cycles, sign] : permutations) {
+  for (const auto& permutation : permutations) {
+    // Named copies: INFO captures them, and clang 14 cannot capture structured bindings.
+    const std::vector<std::vector<int>>& cycles = permutation.first;
+    const int sign = permutation.second;
     std::vector<int> image(n);
     for (int i = 0; i < n; ++i) image[i] = i;
     for (const std::vector<int>& cycle : cycles) {

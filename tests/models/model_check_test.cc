@@ -75,6 +75,20 @@ TEST_CASE("model check: the issue's negatively damped mode, an indefinite and a 
   CHECK(Warns(CheckLinearModel(Model(identity, c_mode, k)),
               "negatively damped: mode 1 (omega 1, damping ratio -0.01)"));
 
+  // With K = [[2, -1], [-1, 2]] the modes (1, 1) and (1, -1) also diagonalise C: the second
+  // (ω² = 3) has modal damping 0.01 - 0.2 = -0.19, so s² - 0.19 s + 3 = 0 and the pair
+  // s = 0.095 ± i√(3 - 0.095²) grows (closed form). With K = diag(1, 4) the same C leaves
+  // every exponent in the left half-plane (real parts -0.0051 and -0.0049).
+  Eigen::MatrixXd coupled(2, 2);
+  coupled << 2.0, -1.0, -1.0, 2.0;
+  const ModelCheck unstable = CheckLinearModel(Model(identity, c, coupled));
+  CHECK(Warns(unstable, "negatively damped: mode 2"));
+  CHECK(Warns(unstable,
+              "model: the linear structure alone (without the laws) is unstable: 2 "
+              "exponents of M s^2 + C s + K with a positive real part (the largest "
+              "growth rate 0.095 per time unit)"));
+  CHECK_FALSE(Warns(damped, "the linear structure alone"));
+
   Eigen::MatrixXd bistable(2, 2);
   bistable << -1.0, 0.0, 0.0, 4.0;
   CHECK(Warns(CheckLinearModel(Model(identity, 0.01 * identity, bistable)),

@@ -244,8 +244,11 @@ TEST_CASE("DLFT contact: at a solution gap and force satisfy the contact law up 
   // i.e. DLFT penetrates by at most the truncation error over ε (Vadcard et al. 2022, §2.4).
   const LinearModel model = NlvibTwoDof();
   const double omega = 0.6;  // the linear response (|x_0| ≈ 2) would cross the gap of 1
-  for (const auto& [max_harmonic, epsilon] :
+  for (const std::pair<int, double>& setting :
        std::vector<std::pair<int, double>>{{10, 10.0}, {21, 10.0}, {21, 1000.0}}) {
+    // Named copies: CAPTURE takes them by reference (clang 14 cannot, structured bindings).
+    const int max_harmonic = setting.first;
+    const double epsilon = setting.second;
     CAPTURE(max_harmonic);
     CAPTURE(epsilon);
     const HarmonicSet set(max_harmonic, false);

@@ -26,7 +26,6 @@
 namespace nfrc {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using Mode = ContactFrictionTimeLaw::Mode;
 
 // Central differences with h = 1e-7 of residuals affine in y and ẏ within a mode (the gap

@@ -1,5 +1,6 @@
-// libFuzzer target of the case reader: bytes -> ParseJsonText -> the case parser (and the
-// field paths of a manifest). The only
+// libFuzzer target of the case reader: bytes -> ParseJsonText -> the case parser, the field
+// paths and the whole of a manifest (its base a fixed case), and a sweep's record (sweep.json,
+// against the plan its own parameters make). The only
 // exception a case file may raise is nfrc::InputError; any other exception, a crash, a leak,
 // a timeout or a sanitizer report is a finding. Built with -DNFRC_FUZZ=ON (tools/fuzz/fuzz.cmake),
 // run by tools/fuzz/run_fuzz.sh.
@@ -13,11 +14,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/errors.h"
 #include "tools/case_file.h"
 #include "tools/case_manifest.h"
 #include "tools/json_input.h"
+#include "tools/sweep.h"
 
 namespace {
 
@@ -110,6 +114,51 @@ bool AsksForALargeModel(const nlohmann::json& model) {
   return elements.is_number() && elements.get<double>() > kMaxFuzzedRodElements;
 }
 
+// The base a fuzzed manifest's members change: the Duffing case of cases/duffing_h1.json.
+constexpr const char* kManifestBase = R"({"model": {"type": "matrices", "M": [[1]],
+  "C": [[0.05]], "K": [[1]], "forcing": [{"dof": 0, "cos": 0.18}]},
+  "nonlinearities": [{"type": "cubic_spring", "dof": 0, "coefficient": 0.1}],
+  "harmonics": {"max": 1, "odd_only": true, "samples": 16},
+  "continuation": {"omega_start": 0.5, "omega_end": 1.6, "step": 0.01},
+  "output": {"dofs": [0]}})";
+
+// The manifest as `nfrc sweep MANIFEST` reads it, its base the fixed case above, and its first
+// member built and read as a case.
+void ParseTheManifest(const nlohmann::json& source, const std::string& base_dir) {
+  if (!nfrc::IsManifest(source)) return;
+  const nfrc::CaseManifest manifest =
+      nfrc::ParseManifest(source, base_dir + "/fuzz.json",
+                          [](const std::string&) { return nlohmann::json::parse(kManifestBase); });
+  if (manifest.variants.empty()) return;
+  const nlohmann::json member = nfrc::VariantSource(manifest, 0);
+  const nlohmann::json* model = ModelOf(member);
+  if (model != nullptr && (NamesFileOutsideBaseDir(*model) || AsksForALargeModel(*model))) return;
+  ParseTheCase(member, base_dir);
+}
+
+// A sweep's record against the plan of its own "parameters" (when they make one): what a resume
+// reads of DIR/sweep.json, every field of every run.
+void ParseTheSweepRecord(const nlohmann::json& source) {
+  if (!source.is_object() || !source.contains("runs") || !source.contains("parameters")) return;
+  const nlohmann::json& axes = source.at("parameters");
+  if (!axes.is_array()) return;
+  nfrc::SweepGrid grid;
+  for (const nlohmann::json& axis : axes) {
+    if (!axis.is_object() || !axis.contains("path") || !axis.at("path").is_string() ||
+        !axis.contains("values") || !axis.at("values").is_array()) {
+      return;
+    }
+    std::vector<double> values;
+    for (const nlohmann::json& value : axis.at("values")) {
+      if (!value.is_number()) return;
+      values.push_back(value.get<double>());
+    }
+    grid.emplace_back(axis.at("path").get<std::string>(), std::move(values));
+  }
+  nfrc::CheckGrid(grid);  // a shape the plan can hold (InputError otherwise)
+  nfrc::ParseSweepRecord(source, nfrc::SweepPlan(grid), "fuzz.json");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -122,6 +171,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       return 0;
     }
     ApplyManifestChanges(source);
+    try {
+      ParseTheManifest(source, base_dir.path());
+    } catch (const nfrc::InputError&) {
+      // A bad manifest is named; the same bytes as a case and a record are tried below.
+    }
+    try {
+      ParseTheSweepRecord(source);
+    } catch (const nfrc::InputError&) {
+    }
     ParseTheCase(source, base_dir.path());
   } catch (const nfrc::InputError&) {
     // Rejected input with a message: the expected outcome for most inputs.

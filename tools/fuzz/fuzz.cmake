@@ -1,5 +1,5 @@
 # Fuzzing build, clang only:
-#   CC=clang CXX=clang++ cmake -S . -B build-fuzz -DNFRC_FUZZ=ON -DNFRC_BUILD_TESTS=OFF
+#   CC=clang CXX=clang++ cmake -S . -B build-fuzz -DNFRC_FUZZ=ON [-DNFRC_BUILD_TESTS=OFF]
 # then tools/fuzz/run_fuzz.sh SECONDS. Every target gets libFuzzer's coverage instrumentation
 # and ASan + UBSan; a UB report aborts (no recovery) so that libFuzzer counts it as a crash,
 # and assertions stay on (Eigen's index checks, nlohmann's JSON_ASSERT) so a failed one is a

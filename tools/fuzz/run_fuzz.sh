@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the case reader (case_reader_fuzzer.cc) for SECONDS seconds, building it first if
-# needed, with a seed corpus copied from cases/**/*.json and tools/fuzz/regressions/*.json
-# (past findings, each run again first) and the dictionary case.dict.
+# needed, with a seed corpus copied from cases/**/*.json, tools/fuzz/seeds/*.json (a sweep
+# record, a grid manifest) and tools/fuzz/regressions/*.json (past findings, each run again
+# first) and the dictionary case.dict.
 # Everything the fuzzer writes (corpus, crash inputs) goes to a temporary directory, never
 # into the repository.
 #
@@ -40,7 +41,8 @@ while IFS= read -r -d '' seed; do
   size=$(stat -c %s "$seed")
   (( size > biggest )) && biggest=$size
   count=$((count + 1))
-done < <(find "$repo/cases" "$repo/tools/fuzz/regressions" -name '*.json' -print0 | sort -z)
+done < <(find "$repo/cases" "$repo/tools/fuzz/seeds" "$repo/tools/fuzz/regressions" -name '*.json' \
+           -print0 | sort -z)
 (( count > 0 )) || { echo "no seed cases under $repo/cases" >&2; exit 2; }
 # Inputs up to twice the biggest case (at least 4 KiB): room for mutations to grow a case,
 # small enough to keep executions fast.
