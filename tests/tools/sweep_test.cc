@@ -376,6 +376,8 @@ TEST_CASE("sweep: sweep.json is rewritten on a schedule, not after every run") {
   const std::vector<double> values(3000, -1.0);
   const std::string dir = OutDir("schedule");
   const SweepResult result = RunSweep(file, mu, values, dir, {});
+  MESSAGE("sweep.json written " << result.record_writes << " times for " << values.size()
+                                << " runs");
   CHECK(result.record_writes <= static_cast<int>(values.size()) / 10);
   const nlohmann::json record = ReadRecord(dir);
   REQUIRE(record["runs"].size() == values.size());
