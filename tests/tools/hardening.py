@@ -94,8 +94,13 @@ def test_stop_within_a_newton_iteration():
     latency = time.monotonic() - signalled
     print(f"     SIGTERM to exit: {latency:.2f} s", flush=True)
     check(code == 3, f"stop: exit 3 after SIGTERM (got {code})")
+    # Read between points only, the stop waited for the rung's remaining iterations and wrote
+    # its point first: a point on disk says so whatever the machine's load.
     check(latency <= 1.0 * SLOWDOWN, f"stop: SIGTERM took effect within {SLOWDOWN:g} s")
-    summary = load(os.path.join(out, "branch.json"))["summary"]
+    branch = load(os.path.join(out, "branch.json"))
+    check(len(branch["points"]) == 0,
+          f"stop: the interrupted start wrote no point (got {len(branch['points'])})")
+    summary = branch["summary"]
     check(summary["termination"] == "stopped_by_observer" and
           "interrupted" in summary["message"], "stop: branch.json says it was interrupted")
 
@@ -242,8 +247,10 @@ def test_manifest_of_ten_thousand_members():
     member = best(["run", manifest + "#9999"])
     alone = best(["run", base_path])
     print(f"     member of the 10 000 grid {member:.2f} s, the base alone {alone:.2f} s")
-    # Two runs of the same machine moments apart; building every member made it ~20.
-    check(member <= 2.0 * alone + 0.2 * SLOWDOWN,
+    # Building every member copied the base's 10 800 numbers 10 000 times: seconds, and
+    # gigabytes. The allowance of 1 s covers a shared machine's noise (other tests run
+    # beside this one), not that.
+    check(member <= 1.5 * alone + 1.0 * SLOWDOWN,
           "manifest: one member of 10 000 costs about one case")
 
 
