@@ -314,9 +314,7 @@ void BranchWriter::WriteJsonIfDue() {
 }
 
 void BranchWriter::WriteJson() {
-  const auto start = RewriteSchedule::Clock::now();
-  WriteJsonAtomically(dir_ + "/branch.json", document_);
-  schedule_.Wrote(start);
+  schedule_.Timed([&] { WriteJsonAtomically(dir_ + "/branch.json", document_); });
   unwritten_event_ = false;
 }
 

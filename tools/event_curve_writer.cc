@@ -51,9 +51,7 @@ void EventCurveWriter::Finish(const EventCurveResult& result, const std::string&
 }
 
 void EventCurveWriter::Write() {
-  const auto start = RewriteSchedule::Clock::now();
-  WriteJsonAtomically(path_, document_);
-  schedule_.Wrote(start);
+  schedule_.Timed([&] { WriteJsonAtomically(path_, document_); });
 }
 
 }  // namespace nfrc

@@ -66,9 +66,7 @@ void FoldCurveWriter::Finish(const FoldCurveResult& result, const std::string& s
 }
 
 void FoldCurveWriter::Write() {
-  const auto start = RewriteSchedule::Clock::now();
-  WriteJsonAtomically(path_, document_);
-  schedule_.Wrote(start);
+  schedule_.Timed([&] { WriteJsonAtomically(path_, document_); });
 }
 
 }  // namespace nfrc

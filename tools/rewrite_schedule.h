@@ -22,6 +22,13 @@ class RewriteSchedule {
   bool Due(bool urgent, Clock::time_point now = Clock::now()) const;
   // Records a write that ran from `start` to `end`.
   void Wrote(Clock::time_point start, Clock::time_point end = Clock::now());
+  // Runs `write` and records how long it took.
+  template <typename Write>
+  void Timed(Write&& write) {
+    const Clock::time_point start = Clock::now();
+    write();
+    Wrote(start);
+  }
   int writes() const { return writes_; }
 
  private:

@@ -565,11 +565,7 @@ SweepResult RunSweep(const CaseFile& file, const SweepPlan& plan, const std::str
         const std::lock_guard<std::mutex> lock(mutex);
         runs[todo[i]] = run;
         // Every run is on disk in its run.json: sweep.json follows on the schedule.
-        if (schedule.Due(true)) {
-          const auto start = RewriteSchedule::Clock::now();
-          WriteSweepRecord(job, runs);
-          schedule.Wrote(start);
-        }
+        if (schedule.Due(true)) schedule.Timed([&] { WriteSweepRecord(job, runs); });
         PrintRun(options.progress, plan, run);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);

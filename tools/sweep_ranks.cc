@@ -156,10 +156,10 @@ std::vector<SweepRun> RunSweepOnRanks(const RankSession& session, const CaseFile
                                    /*threads=*/0);  // ranks share the cores already
       PrintRun(progress, plan, run);
       if (rank == 0 && schedule.Due(true)) {
-        const auto start = RewriteSchedule::Clock::now();
-        Refresh(job, &runs);
-        WriteSweepRecord(job, runs);
-        schedule.Wrote(start);
+        schedule.Timed([&] {
+          Refresh(job, &runs);
+          WriteSweepRecord(job, runs);
+        });
       }
     }
   } catch (const std::exception& error) {
